@@ -1,0 +1,15 @@
+# Policy targets every pathfarm target links: warnings (and -Werror in CI), sanitizers.
+add_library(pathfarm_warnings INTERFACE)
+target_compile_options(pathfarm_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Wunused
+  -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough)
+if(PATHFARM_WERROR)
+  target_compile_options(pathfarm_warnings INTERFACE -Werror)
+endif()
+
+add_library(pathfarm_sanitize INTERFACE)
+if(PATHFARM_SANITIZE)
+  target_compile_options(pathfarm_sanitize INTERFACE
+    -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(pathfarm_sanitize INTERFACE -fsanitize=address,undefined)
+endif()

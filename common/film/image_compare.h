@@ -1,0 +1,14 @@
+// Image error metrics used by tests and benchmarks (always against a converged reference).
+#pragma once
+
+#include "common/film/film.h"
+
+namespace pathfarm {
+
+// Root mean squared error over all pixels and channels. Images must have the same size.
+double rmse(const FloatImage& a, const FloatImage& reference);
+// Mean over pixels and channels of (a - ref)^2 / (ref^2 + eps): comparable across scenes whose
+// radiance differs by orders of magnitude.
+double relative_mse(const FloatImage& a, const FloatImage& reference, double eps = 1e-2);
+
+}  // namespace pathfarm

@@ -1,0 +1,33 @@
+// Image files through OpenImageIO, which stays behind this small API (STYLE.md §2.5).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/base/result.h"
+#include "common/film/film.h"
+
+namespace pathfarm {
+
+// Writes by extension: .exr (32-bit float, zip) and .pfm hold linear radiance; .png and .jpg
+// are tonemapped sRGB (tonemap.h) with the given exposure.
+Status write_image(const std::string& path, const FloatImage& image, float exposure = 1.0f);
+// Writes already-encoded 8-bit RGB bytes (for contact sheets and previews).
+Status write_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
+
+// Reads any format OIIO knows into linear float RGB (8-bit sRGB files are decoded).
+Result<FloatImage> read_image(const std::string& path);
+
+// An 8-bit RGBA image decoded from a file or from memory (textures).
+struct Rgba8Image {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+};
+Result<Rgba8Image> read_rgba8(const std::string& path);
+// name_hint carries the extension OIIO uses to pick a decoder (e.g. "texture.png").
+Result<Rgba8Image> decode_rgba8(const unsigned char* data, std::size_t size,
+                                const std::string& name_hint);
+
+}  // namespace pathfarm

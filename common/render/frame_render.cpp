@@ -1,0 +1,28 @@
+// The per-pixel sample loop.
+#include "common/render/frame_render.h"
+
+namespace pathfarm {
+
+void render_block(const PathTracer& tracer, const FrameSpec& spec, int x0, int x1, int y0, int y1,
+                  float* out, std::size_t out_stride, SampleCounters& counters) {
+    const double inv_spp = 1.0 / double(std::max(spec.spp, 1));
+    for (int y = y0; y < y1; ++y) {
+        float* row = out + std::size_t(y - y0) * out_stride;
+        for (int x = x0; x < x1; ++x) {
+            glm::dvec3 sum(0.0);
+            for (int s = spec.first_sample; s < spec.first_sample + spec.spp; ++s) {
+                PixelSampler sampler(uint32_t(x), uint32_t(y), spec.frame, uint32_t(s), spec.seed);
+                const Vec2 jitter = sampler.next_2d();
+                const Ray ray = generate_camera_ray(spec.camera, spec.width, spec.height,
+                                                    float(x) + jitter.x, float(y) + jitter.y);
+                sum += glm::dvec3(tracer.trace(ray, sampler, counters));
+            }
+            float* p = row + 3 * (x - x0);
+            p[0] = float(sum.x * inv_spp);
+            p[1] = float(sum.y * inv_spp);
+            p[2] = float(sum.z * inv_spp);
+        }
+    }
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,28 @@
+// Rendering a block of pixels of one frame: the unit every backend's thread pool hands out.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "common/render/path_tracer.h"
+#include "common/scene/camera.h"
+
+namespace pathfarm {
+
+struct FrameSpec {
+    int width = 0;
+    int height = 0;
+    uint32_t frame = 0;
+    uint32_t seed = 0;
+    int spp = 1;
+    int first_sample = 0;  // samples [first_sample, first_sample + spp) of each pixel
+    Camera camera;
+};
+
+// Renders pixels [x0, x1) x [y0, y1) into out, where out points at pixel (x0, y0) and rows are
+// out_stride floats apart. Each pixel is the box-filtered mean of spp samples (uniform jitter
+// inside the pixel square), accumulated in double.
+void render_block(const PathTracer& tracer, const FrameSpec& spec, int x0, int x1, int y0, int y1,
+                  float* out, std::size_t out_stride, SampleCounters& counters);
+
+}  // namespace pathfarm

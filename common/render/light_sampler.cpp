@@ -1,0 +1,105 @@
+// Power-proportional emissive-triangle selection and sun/sky sampling.
+#include "common/render/light_sampler.h"
+
+#include <algorithm>
+
+#include "common/sampling/sampling.h"
+
+namespace pathfarm {
+namespace {
+
+// Mean texel value of an image (sRGB-decoded), so textured emitters are chosen by their
+// actual average emission.
+Rgb mean_emission_texel(const Image* image) {
+    if (image == nullptr || image->width <= 0) return Rgb(1.0f);
+    Rgb sum(0.0f);
+    const std::size_t n = std::size_t(image->width) * image->height;
+    const std::size_t step = std::max<std::size_t>(1, n / 4096);
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < n; i += step, ++count)
+        for (int c = 0; c < 3; ++c) sum[c] += srgb_to_linear(image->rgba[i * 4 + c] / 255.0f);
+    return sum / float(std::max<std::size_t>(count, 1));
+}
+
+}  // namespace
+
+LightSampler::LightSampler(const ShadingScene& shading) : shading_(shading) {
+    const SceneModel& scene = shading.model();
+    instance_offset_.assign(scene.instances.size(), -1);
+    std::vector<double> power;
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+        const Material& mat = scene.materials[mesh.material];
+        if (!mat.is_emissive() || mesh.triangle_count() == 0) continue;
+        const Rgb mean = mat.emission() * mean_emission_texel(scene.texture_image(mat.emissive_texture));
+        const float sides = mat.double_sided ? 2.0f : 1.0f;
+        instance_offset_[i] = int64_t(triangles_.size());
+        for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+            Vec3 p[3];
+            shading.triangle_vertices(i, t, p);
+            const Vec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
+            const float area = 0.5f * glm::length(c);
+            SurfacePoint probe = shading.surface(Hit{0.0f, i, t, 1.0f / 3.0f, 1.0f / 3.0f});
+            triangles_.push_back({i, t, p[0], p[1] - p[0], p[2] - p[0], probe.ng, area});
+            power.push_back(double(luminance(mean)) * area * sides);
+        }
+    }
+    double total = 0.0;
+    for (double pw : power) total += pw;
+    cdf_.resize(power.size());
+    double acc = 0.0;
+    for (std::size_t k = 0; k < power.size(); ++k) {
+        acc += power[k];
+        cdf_[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(power.size());
+    }
+    if (!cdf_.empty()) cdf_.back() = 1.0f;
+    if (uses_sun_sky(scene)) {
+        sun_sky_ = std::make_unique<SunSky>(scene.environment);
+        p_environment_ = triangles_.empty() ? 1.0f : 0.5f;
+    }
+}
+
+std::optional<LightSample> LightSampler::sample(const Vec3& from, float u_select, Vec2 u) const {
+    if (empty()) return std::nullopt;
+    LightSample ls;
+    if (u_select < p_environment_) {
+        const EnvSample es = sun_sky_->sample(u_select / p_environment_, u);
+        if (es.pdf <= 0.0f) return std::nullopt;
+        ls.p = es.wi;
+        ls.radiance = es.radiance;
+        ls.pdf = p_environment_ * es.pdf;
+        ls.environment = true;
+        return ls;
+    }
+    const float us = (u_select - p_environment_) / (1.0f - p_environment_);
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), us);
+    const std::size_t k = std::min<std::size_t>(it - cdf_.begin(), cdf_.size() - 1);
+    const EmissiveTriangle& tri = triangles_[k];
+    if (tri.area <= 0.0f) return std::nullopt;
+    const Vec2 b = sample_uniform_triangle(u);
+    ls.p = tri.p0 + b.x * tri.e1 + b.y * tri.e2;
+    ls.n = tri.n;
+    const float pmf = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
+    ls.pdf = (1.0f - p_environment_) * pmf / tri.area;
+    SurfacePoint sp = shading_.surface(Hit{0.0f, tri.instance, tri.prim, b.x, b.y});
+    sp.p = ls.p;
+    ls.radiance = shading_.emitted(sp, glm::normalize(from - ls.p));
+    return ls;
+}
+
+float LightSampler::triangle_pdf_area(uint32_t instance, uint32_t prim) const {
+    if (instance >= instance_offset_.size() || instance_offset_[instance] < 0) return 0.0f;
+    const std::size_t k = std::size_t(instance_offset_[instance]) + prim;
+    const float pmf = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
+    return triangles_[k].area > 0.0f ? (1.0f - p_environment_) * pmf / triangles_[k].area : 0.0f;
+}
+
+float LightSampler::environment_pdf(const Vec3& w) const {
+    return sun_sky_ ? p_environment_ * sun_sky_->pdf(w) : 0.0f;
+}
+
+Rgb LightSampler::environment_radiance(const Vec3& w) const {
+    return sun_sky_ ? sun_sky_->radiance(w) : Rgb(0.0f);
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,54 @@
+// Chooses a light for next-event estimation: every emissive triangle is an area light picked
+// in proportion to its power (scenes may hold thousands), plus the sun/sky when it lights the
+// scene. Densities are returned per unit area for triangles and per solid angle for the sky.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "common/render/shading_scene.h"
+#include "common/render/sun_sky.h"
+
+namespace pathfarm {
+
+struct LightSample {
+    Vec3 p{0.0f};          // point on the light (triangles), or a direction (environment)
+    Vec3 n{0.0f};          // front normal of the triangle
+    Rgb radiance{0.0f};    // emitted towards the receiver, before visibility
+    float pdf = 0.0f;      // includes the selection probability; area or solid-angle measure
+    bool environment = false;
+};
+
+class LightSampler {
+public:
+    explicit LightSampler(const ShadingScene& shading);
+
+    bool empty() const { return triangles_.empty() && !sun_sky_; }
+    // Samples a light as seen from receiver point `from`. u_select chooses, u positions.
+    std::optional<LightSample> sample(const Vec3& from, float u_select, Vec2 u) const;
+    // Selection probability times 1/area for the emissive triangle (instance, prim); 0 if it
+    // is not a light.
+    float triangle_pdf_area(uint32_t instance, uint32_t prim) const;
+    // Selection probability times the sky's solid-angle density for direction w.
+    float environment_pdf(const Vec3& w) const;
+    Rgb environment_radiance(const Vec3& w) const;
+    bool has_environment() const { return sun_sky_ != nullptr; }
+    std::size_t triangle_count() const { return triangles_.size(); }
+
+private:
+    struct EmissiveTriangle {
+        uint32_t instance, prim;
+        Vec3 p0, e1, e2, n;
+        float area;
+    };
+
+    const ShadingScene& shading_;
+    std::vector<EmissiveTriangle> triangles_;
+    std::vector<float> cdf_;                 // cumulative power, normalised to 1
+    std::vector<int64_t> instance_offset_;   // first light of each instance, or -1
+    std::unique_ptr<SunSky> sun_sky_;
+    float p_environment_ = 0.0f;
+};
+
+}  // namespace pathfarm

@@ -1,0 +1,175 @@
+// The path-tracing loop. Conventions: wo points back along the incoming ray, wi is the new
+// direction; "ng" is the front-face geometric normal; all MIS weights use solid-angle pdfs.
+#include "common/render/path_tracer.h"
+
+#include "common/math/float_util.h"
+#include "common/math/frame.h"
+#include "common/sampling/sampling.h"
+
+namespace pathfarm {
+namespace {
+
+// Shading frame for a hit: opaque surfaces are shaded on the side the ray arrives from;
+// transmissive ones keep the outward normal so that "inside" is wo.z < 0.
+struct Orientation {
+    Vec3 ng;  // geometric normal used for ray offsets and leak checks
+    Frame frame;
+};
+
+Orientation orient(const SurfacePoint& sp, const Vec3& wo, bool transmissive) {
+    Vec3 ng = sp.ng;
+    Vec3 ns = sp.ns;
+    if (!transmissive && glm::dot(wo, ng) < 0.0f) {
+        ng = -ng;
+        ns = -ns;
+    }
+    if (!transmissive && glm::dot(wo, ns) <= 0.0f) ns = ng;
+    return {ng, Frame::from_normal_tangent(ns, sp.tangent)};
+}
+
+// A direction is consistent when the shading and geometric normals agree on which side of
+// the surface it leaves to; otherwise light would leak through the mesh.
+bool consistent_side(const Vec3& w_world, const Vec3& w_local, const Vec3& ng) {
+    return glm::dot(w_world, ng) * w_local.z > 0.0f;
+}
+
+}  // namespace
+
+PathTracer::PathTracer(const ShadingScene& shading, const LightSampler& lights,
+                       const Intersector& kernel, const IntegratorSettings& settings)
+    : shading_(shading), lights_(lights), kernel_(kernel), settings_(settings) {}
+
+float PathTracer::light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp,
+                                        const Vec3& origin) const {
+    const float pdf_area = lights_.triangle_pdf_area(hit.instance, hit.prim);
+    if (pdf_area <= 0.0f) return 0.0f;
+    const Vec3 d = sp.p - origin;
+    const float dist2 = glm::dot(d, d);
+    const float cos_light = std::abs(glm::dot(sp.ng, d)) / std::sqrt(dist2);
+    return cos_light > 0.0f ? pdf_area * dist2 / cos_light : 0.0f;
+}
+
+Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Frame& frame,
+                              const Vec3& wo_local, PixelSampler& sampler,
+                              SampleCounters& counters) const {
+    const Vec2 u_select = sampler.next_2d();
+    const Vec2 u_light = sampler.next_2d();
+    if (settings_.strategy == LightStrategy::bsdf_only || lights_.empty() || !bsdf.has_non_delta())
+        return Rgb(0.0f);
+    const auto ls = lights_.sample(sp.p, u_select.x, u_light);
+    if (!ls || ls->pdf <= 0.0f || max_component(ls->radiance) <= 0.0f) return Rgb(0.0f);
+
+    Vec3 wi;
+    float dist = kInfinity;
+    float pdf_light = ls->pdf;
+    if (ls->environment) {
+        wi = ls->p;
+    } else {
+        const Vec3 d = ls->p - sp.p;
+        const float dist2 = glm::dot(d, d);
+        dist = std::sqrt(dist2);
+        wi = d / dist;
+        const float cos_light = std::abs(glm::dot(ls->n, wi));
+        if (cos_light <= 0.0f || dist2 <= 0.0f) return Rgb(0.0f);
+        pdf_light *= dist2 / cos_light;  // area to solid angle
+    }
+    const Vec3 wi_local = frame.to_local(wi);
+    const Vec3 ng = glm::dot(wi, sp.ng) > 0.0f ? sp.ng : -sp.ng;
+    if (!consistent_side(wi, wi_local, ng)) return Rgb(0.0f);
+    const Rgb f = bsdf.eval(wo_local, wi_local) * std::abs(wi_local.z);
+    if (max_component(f) <= 0.0f) return Rgb(0.0f);
+
+    Ray shadow;
+    shadow.o = offset_ray_origin(sp.p, ng);
+    shadow.d = wi;
+    if (ls->environment) {
+        shadow.tmax = kInfinity;
+    } else {
+        const Vec3 target = offset_ray_origin(ls->p, glm::dot(ls->n, -wi) > 0.0f ? ls->n : -ls->n);
+        shadow.tmax = glm::dot(target - shadow.o, wi) * (1.0f - 1e-5f);
+    }
+    ++counters.rays;
+    if (kernel_.occluded(shadow)) return Rgb(0.0f);
+    const float weight = settings_.strategy == LightStrategy::light_only
+                             ? 1.0f
+                             : power_heuristic(pdf_light, bsdf.pdf(wo_local, wi_local));
+    return f * ls->radiance * (weight / pdf_light);
+}
+
+Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+    Rgb radiance(0.0f);
+    Rgb beta(1.0f);
+    Rgb sigma_a(0.0f);  // absorption of the medium the ray travels in
+    bool delta_bounce = true;  // the camera and delta lobes: no MIS partner for emitters
+    float bsdf_pdf = 0.0f;
+    Vec3 last_point = ray.o;
+    ++counters.camera_samples;
+
+    for (int depth = 0;; ++depth) {
+        Hit hit;
+        ++counters.rays;
+        const bool found = kernel_.intersect(ray, hit);
+        const bool count_emission = delta_bounce || settings_.strategy != LightStrategy::light_only;
+        if (!found) {
+            if (lights_.has_environment() && count_emission) {
+                const Rgb le = lights_.environment_radiance(ray.d);
+                const float w = delta_bounce || settings_.strategy == LightStrategy::bsdf_only
+                                    ? 1.0f
+                                    : power_heuristic(bsdf_pdf, lights_.environment_pdf(ray.d));
+                radiance += beta * le * w;
+            }
+            break;
+        }
+        if (max_component(sigma_a) > 0.0f) beta *= glm::exp(-sigma_a * hit.t);
+
+        SurfacePoint sp = shading_.surface(hit);
+        const Vec3 wo = -ray.d;
+        if (count_emission) {
+            const Rgb le = shading_.emitted(sp, wo);
+            if (max_component(le) > 0.0f) {
+                const float w = delta_bounce || settings_.strategy == LightStrategy::bsdf_only
+                                    ? 1.0f
+                                    : power_heuristic(bsdf_pdf, light_pdf_solid_angle(hit, sp, last_point));
+                radiance += beta * le * w;
+            }
+        }
+        if (depth >= settings_.max_depth) break;
+
+        const MaterialPoint mp = shading_.material_point(sp);
+        const Bsdf bsdf(mp);
+        const Orientation o = orient(sp, wo, bsdf.transmissive());
+        const Vec3 wo_local = o.frame.to_local(wo);
+        radiance += beta * sample_direct(sp, bsdf, o.frame, wo_local, sampler, counters);
+
+        const Vec2 u_lobe = sampler.next_2d();
+        const Vec2 u_dir = sampler.next_2d();
+        BsdfSample bs;
+        if (!bsdf.sample(wo_local, u_lobe.x, u_dir, bs)) break;
+        const Vec3 wi = o.frame.to_world(bs.wi);
+        const Vec3 ng_out = glm::dot(wi, o.ng) > 0.0f ? o.ng : -o.ng;
+        if (!consistent_side(wi, bs.wi, ng_out)) break;
+        beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
+        delta_bounce = bs.delta;
+        bsdf_pdf = bs.pdf;
+
+        if (bsdf.transmissive() && glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
+            sigma_a = glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material) : Rgb(0.0f);
+
+        if (depth + 1 >= settings_.rr_start_depth) {
+            const float survive = std::min(1.0f, max_component(beta));
+            if (u_lobe.y >= survive) break;
+            beta /= survive;
+        }
+        last_point = sp.p;
+        ray.o = offset_ray_origin(sp.p, ng_out);
+        ray.d = wi;
+        ray.tmax = kInfinity;
+    }
+    if (!is_finite(radiance)) {
+        ++counters.nonfinite_samples;
+        return Rgb(0.0f);
+    }
+    return radiance;
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,56 @@
+// Unidirectional path tracer: next-event estimation and BSDF sampling combined by multiple
+// importance sampling (power heuristic), Russian roulette, Beer absorption inside dielectrics.
+// One call traces one camera sample; all randomness comes from the PixelSampler
+// (docs/determinism.md), so any row split or thread count gives the same image.
+#pragma once
+
+#include <cstdint>
+
+#include "common/render/intersector.h"
+#include "common/render/light_sampler.h"
+#include "common/render/shading_scene.h"
+#include "common/sampling/rng.h"
+
+namespace pathfarm {
+
+// Which estimators contribute direct light. mis is the renderer; the others exist so tests can
+// check that all three converge to the same image.
+enum class LightStrategy : uint8_t { mis, light_only, bsdf_only };
+
+struct IntegratorSettings {
+    int max_depth = 8;  // maximum number of scattering events; 0 renders emitters only
+    LightStrategy strategy = LightStrategy::mis;
+    int rr_start_depth = 3;  // Russian roulette from this bounce on
+};
+
+struct SampleCounters {
+    uint64_t camera_samples = 0;
+    uint64_t rays = 0;               // closest-hit and shadow rays
+    uint64_t nonfinite_samples = 0;  // samples discarded because they were NaN/Inf
+    void add(const SampleCounters& o) {
+        camera_samples += o.camera_samples;
+        rays += o.rays;
+        nonfinite_samples += o.nonfinite_samples;
+    }
+};
+
+class PathTracer {
+public:
+    PathTracer(const ShadingScene& shading, const LightSampler& lights, const Intersector& kernel,
+               const IntegratorSettings& settings);
+
+    // Radiance along a camera ray. A non-finite estimate is counted and returned as zero.
+    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
+
+private:
+    Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
+                      const Vec3& wo_local, PixelSampler& sampler, SampleCounters& counters) const;
+    float light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp, const Vec3& origin) const;
+
+    const ShadingScene& shading_;
+    const LightSampler& lights_;
+    const Intersector& kernel_;
+    IntegratorSettings settings_;
+};
+
+}  // namespace pathfarm

@@ -1,0 +1,34 @@
+// Camera ray generation and default framing.
+#include "common/scene/camera.h"
+
+#include "common/math/transform.h"
+
+namespace pathfarm {
+
+Ray generate_camera_ray(const Camera& camera, int width, int height, float px, float py) {
+    const float tan_half = std::tan(0.5f * camera.yfov_radians);
+    const float aspect = float(width) / float(height);
+    const float sx = (2.0f * px / float(width) - 1.0f) * tan_half * aspect;
+    const float sy = (1.0f - 2.0f * py / float(height)) * tan_half;
+    Ray ray;
+    ray.o = transform_point(camera.camera_to_world, Vec3(0.0f));
+    ray.d = glm::normalize(transform_vector(camera.camera_to_world, Vec3(sx, sy, -1.0f)));
+    return ray;
+}
+
+Camera frame_bounds(const Bounds3f& bounds, float aspect) {
+    Camera camera;
+    camera.name = "default-framing";
+    if (bounds.empty()) return camera;
+    const Vec3 center = bounds.center();
+    const Vec3 half = 0.5f * bounds.extent();
+    const float tan_half_y = std::tan(0.5f * camera.yfov_radians);
+    const float tan_half_x = tan_half_y * aspect;
+    // Distance from the box's front face (z = upper.z) so both half-extents fit, with 5% margin.
+    const float dist = 1.05f * std::max(half.y / tan_half_y, half.x / tan_half_x);
+    const Vec3 eye(center.x, center.y, bounds.upper.z + dist);
+    camera.camera_to_world = look_at_camera(eye, center, Vec3(0.0f, 1.0f, 0.0f));
+    return camera;
+}
+
+}  // namespace pathfarm

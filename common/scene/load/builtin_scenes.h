@@ -1,0 +1,21 @@
+// Scenes compiled into pathfarm, addressed as builtin:NAME.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/base/result.h"
+#include "common/scene/scene_model.h"
+
+namespace pathfarm {
+
+// The classic Cornell box (Lambert walls, one quad light), in metres.
+SceneModel make_cornell_box();
+// The demo room: instanced objects, procedural floor, mirror, absorbing glass, several lights
+// of different sizes and a sunlit window.
+SceneModel make_default_scene();
+
+std::vector<std::string> builtin_scene_names();
+Result<SceneModel> make_builtin_scene(const std::string& name);
+
+}  // namespace pathfarm

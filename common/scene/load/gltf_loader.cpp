@@ -1,0 +1,333 @@
+// glTF 2.0 import through tinygltf: materials with the KHR extensions pathfarm honours,
+// primitives as meshes, the node hierarchy, perspective cameras. Images are decoded by
+// OpenImageIO; one that cannot be decoded (e.g. KTX2) costs that texture with a warning.
+#include <filesystem>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <spdlog/spdlog.h>
+#include <tiny_gltf.h>
+
+#include "common/film/image_io.h"
+#include "common/math/transform.h"
+#include "common/scene/load/gltf_accessor.h"
+#include "common/scene/load/scene_loader.h"
+
+namespace pathfarm {
+namespace {
+
+struct ImageLoadContext {
+    std::string path;
+    std::vector<std::string> warnings;
+};
+
+std::string image_name_hint(const tinygltf::Image& image) {
+    if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0) return image.uri;
+    if (image.mimeType == "image/jpeg") return "embedded.jpg";
+    if (image.mimeType == "image/png") return "embedded.png";
+    if (image.uri.rfind("data:image/jpeg", 0) == 0) return "embedded.jpg";
+    return "embedded.png";
+}
+
+bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+    auto* ctx = static_cast<ImageLoadContext*>(user);
+    auto decoded = decode_rgba8(bytes, std::size_t(size), image_name_hint(*image));
+    if (!decoded) {
+        ctx->warnings.push_back(fmt::format("{}: image {} \"{}\": not decoded ({}); its texture is ignored",
+                                            ctx->path, index, image->uri, decoded.error().message));
+        image->width = image->height = 0;
+        return true;  // the scene still loads
+    }
+    image->width = decoded->width;
+    image->height = decoded->height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image = std::move(decoded->rgba);
+    return true;
+}
+
+float number(const tinygltf::Value& obj, const char* key, float fallback) {
+    if (!obj.IsObject() || !obj.Has(key)) return fallback;
+    const tinygltf::Value& v = obj.Get(key);
+    return v.IsNumber() ? float(v.GetNumberAsDouble()) : fallback;
+}
+
+Rgb rgb_value(const tinygltf::Value& obj, const char* key, Rgb fallback) {
+    if (!obj.IsObject() || !obj.Has(key)) return fallback;
+    const tinygltf::Value& v = obj.Get(key);
+    if (!v.IsArray() || v.ArrayLen() < 3) return fallback;
+    return {float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()),
+            float(v.Get(2).GetNumberAsDouble())};
+}
+
+const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* name) {
+    const auto it = map.find(name);
+    return it == map.end() ? nullptr : &it->second;
+}
+
+TextureRef texture_ref(int index, int texcoord) { return TextureRef{index, texcoord}; }
+
+class GltfImporter {
+public:
+    GltfImporter(const tinygltf::Model& model, std::string path) : gltf_(model), path_(std::move(path)) {}
+    Result<SceneModel> run();
+
+private:
+    void import_images_and_textures();
+    void import_materials();
+    Status import_meshes();
+    Status import_primitive(const tinygltf::Primitive& prim, const std::string& name, Mesh& mesh);
+    Status import_nodes();
+    Status add_node(int gltf_node, int parent, int depth);
+    Mat4 node_local(const tinygltf::Node& node) const;
+
+    const tinygltf::Model& gltf_;
+    std::string path_;
+    SceneModel scene_;
+    std::vector<std::vector<int>> mesh_map_;  // glTF mesh -> our meshes (one per primitive)
+    int default_material_ = -1;
+};
+
+void GltfImporter::import_images_and_textures() {
+    for (const tinygltf::Image& img : gltf_.images) {
+        Image image;
+        image.name = img.name.empty() ? img.uri : img.name;
+        if (img.width > 0 && img.height > 0 && img.image.size() == std::size_t(img.width) * img.height * 4) {
+            image.width = img.width;
+            image.height = img.height;
+            image.rgba = img.image;
+        } else if (img.image.empty() && img.width != 0) {
+            spdlog::warn("{}: image \"{}\" could not be loaded; its texture is ignored", path_, img.uri);
+        }
+        scene_.images.push_back(std::move(image));
+    }
+    for (const tinygltf::Texture& tex : gltf_.textures) {
+        Texture t;
+        const bool valid = tex.source >= 0 && tex.source < int(scene_.images.size()) && scene_.images[tex.source].width > 0;
+        t.image = valid ? tex.source : -1;
+        if (tex.sampler >= 0 && tex.sampler < int(gltf_.samplers.size())) {
+            const tinygltf::Sampler& s = gltf_.samplers[tex.sampler];
+            t.sampler.filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? FilterMode::nearest : FilterMode::linear;
+            const auto wrap = [](int w) {
+                if (w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return WrapMode::clamp_to_edge;
+                if (w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return WrapMode::mirrored_repeat;
+                return WrapMode::repeat;
+            };
+            t.sampler.wrap_s = wrap(s.wrapS);
+            t.sampler.wrap_t = wrap(s.wrapT);
+        }
+        scene_.textures.push_back(t);
+    }
+}
+
+void GltfImporter::import_materials() {
+    for (const tinygltf::Material& gm : gltf_.materials) {
+        Material m;
+        m.name = gm.name;
+        const auto& pbr = gm.pbrMetallicRoughness;
+        for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c) m.base_color_factor[c] = float(pbr.baseColorFactor[c]);
+        m.base_color_texture = texture_ref(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord);
+        m.metallic_factor = float(pbr.metallicFactor);
+        m.roughness_factor = float(pbr.roughnessFactor);
+        m.metallic_roughness_texture = texture_ref(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord);
+        m.normal_texture = texture_ref(gm.normalTexture.index, gm.normalTexture.texCoord);
+        m.normal_scale = float(gm.normalTexture.scale);
+        for (int c = 0; c < 3 && c < int(gm.emissiveFactor.size()); ++c) m.emissive_factor[c] = float(gm.emissiveFactor[c]);
+        m.emissive_texture = texture_ref(gm.emissiveTexture.index, gm.emissiveTexture.texCoord);
+        m.double_sided = gm.doubleSided;
+        if (const auto* e = extension(gm.extensions, "KHR_materials_emissive_strength"))
+            m.emissive_strength = number(*e, "emissiveStrength", 1.0f);
+        if (const auto* e = extension(gm.extensions, "KHR_materials_transmission"))
+            m.transmission_factor = number(*e, "transmissionFactor", 0.0f);
+        if (const auto* e = extension(gm.extensions, "KHR_materials_ior")) m.ior = number(*e, "ior", 1.5f);
+        if (const auto* e = extension(gm.extensions, "KHR_materials_specular")) {
+            m.specular_factor = number(*e, "specularFactor", 1.0f);
+            m.specular_color_factor = rgb_value(*e, "specularColorFactor", Rgb(1.0f));
+        }
+        if (const auto* e = extension(gm.extensions, "KHR_materials_volume")) {
+            m.attenuation_distance = number(*e, "attenuationDistance", kInfinity);
+            m.attenuation_color = rgb_value(*e, "attenuationColor", Rgb(1.0f));
+        }
+        scene_.materials.push_back(std::move(m));
+    }
+}
+
+Status GltfImporter::import_primitive(const tinygltf::Primitive& prim, const std::string& name, Mesh& mesh) {
+    const auto attr = [&](const char* key) {
+        const auto it = prim.attributes.find(key);
+        return it == prim.attributes.end() ? -1 : it->second;
+    };
+    std::vector<float> data;
+    int comps = 0;
+    if (Status s = read_accessor_floats(gltf_, attr("POSITION"), data, comps); !s || comps != 3)
+        return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": POSITION: {}", path_, name, s ? "not a VEC3" : s.error().message);
+    for (std::size_t i = 0; i + 2 < data.size(); i += 3) mesh.positions.emplace_back(data[i], data[i + 1], data[i + 2]);
+    if (attr("NORMAL") >= 0) {
+        if (Status s = read_accessor_floats(gltf_, attr("NORMAL"), data, comps); !s || comps != 3)
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": NORMAL: {}", path_, name, s ? "not a VEC3" : s.error().message);
+        for (std::size_t i = 0; i + 2 < data.size(); i += 3) mesh.normals.emplace_back(data[i], data[i + 1], data[i + 2]);
+    }
+    if (attr("TEXCOORD_0") >= 0) {
+        if (Status s = read_accessor_floats(gltf_, attr("TEXCOORD_0"), data, comps); !s || comps != 2)
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": TEXCOORD_0: {}", path_, name, s ? "not a VEC2" : s.error().message);
+        for (std::size_t i = 0; i + 1 < data.size(); i += 2) mesh.uvs.emplace_back(data[i], data[i + 1]);
+    }
+    if (attr("TANGENT") >= 0) {
+        if (Status s = read_accessor_floats(gltf_, attr("TANGENT"), data, comps); !s || comps != 4)
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": TANGENT: {}", path_, name, s ? "not a VEC4" : s.error().message);
+        for (std::size_t i = 0; i + 3 < data.size(); i += 4) mesh.tangents.emplace_back(data[i], data[i + 1], data[i + 2], data[i + 3]);
+    }
+    std::vector<uint32_t> idx;
+    if (prim.indices >= 0) {
+        if (Status s = read_accessor_uints(gltf_, prim.indices, idx); !s)
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": indices: {}", path_, name, s.error().message);
+    } else {
+        idx.resize(mesh.positions.size());
+        for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    }
+    if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
+        mesh.indices = std::move(idx);
+        mesh.indices.resize(mesh.indices.size() / 3 * 3);
+    } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (std::size_t i = 2; i < idx.size(); ++i)
+            mesh.indices.insert(mesh.indices.end(), i % 2 ? std::initializer_list<uint32_t>{idx[i - 1], idx[i - 2], idx[i]}
+                                                          : std::initializer_list<uint32_t>{idx[i - 2], idx[i - 1], idx[i]});
+    } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        for (std::size_t i = 2; i < idx.size(); ++i) mesh.indices.insert(mesh.indices.end(), {idx[0], idx[i - 1], idx[i]});
+    }
+    return {};
+}
+
+Status GltfImporter::import_meshes() {
+    mesh_map_.resize(gltf_.meshes.size());
+    for (std::size_t mi = 0; mi < gltf_.meshes.size(); ++mi) {
+        const tinygltf::Mesh& gm = gltf_.meshes[mi];
+        for (std::size_t pi = 0; pi < gm.primitives.size(); ++pi) {
+            const tinygltf::Primitive& prim = gm.primitives[pi];
+            const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+                spdlog::warn("{}: mesh {} \"{}\" primitive {}: points/lines are not rendered", path_, mi, gm.name, pi);
+                continue;
+            }
+            Mesh mesh;
+            mesh.name = gm.primitives.size() > 1 ? fmt::format("{}#{}", gm.name, pi) : gm.name;
+            if (Status s = import_primitive(prim, mesh.name, mesh); !s) return s;
+            if (prim.material >= 0 && prim.material < int(scene_.materials.size())) {
+                mesh.material = prim.material;
+            } else {
+                if (default_material_ < 0) {
+                    Material fallback;  // the glTF default material: white, metallic 1, roughness 1
+                    fallback.name = "gltf-default";
+                    scene_.materials.push_back(std::move(fallback));
+                    default_material_ = int(scene_.materials.size()) - 1;
+                }
+                mesh.material = default_material_;
+            }
+            if (scene_.materials[mesh.material].normal_texture.valid() && !mesh.has_tangents() && mesh.has_normals())
+                compute_tangents(mesh);
+            mesh_map_[mi].push_back(int(scene_.meshes.size()));
+            scene_.meshes.push_back(std::move(mesh));
+        }
+    }
+    return {};
+}
+
+Mat4 GltfImporter::node_local(const tinygltf::Node& node) const {
+    if (node.matrix.size() == 16) {
+        Mat4 m;
+        for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(node.matrix[i]);
+        return m;
+    }
+    Vec3 t(0.0f), s(1.0f);
+    glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
+    if (node.translation.size() == 3) t = Vec3(node.translation[0], node.translation[1], node.translation[2]);
+    if (node.scale.size() == 3) s = Vec3(node.scale[0], node.scale[1], node.scale[2]);
+    if (node.rotation.size() == 4)  // glTF stores x, y, z, w; glm::quat's constructor takes w first
+        r = glm::normalize(glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2])));
+    return compose_trs(t, r, s);
+}
+
+Status GltfImporter::add_node(int gltf_node, int parent, int depth) {
+    if (gltf_node < 0 || gltf_node >= int(gltf_.nodes.size()))
+        return make_error(ErrorCode::parse_error, "{}: node {} out of range", path_, gltf_node);
+    if (depth > 256) return make_error(ErrorCode::parse_error, "{}: node hierarchy deeper than 256 (a cycle?)", path_);
+    const tinygltf::Node& gn = gltf_.nodes[gltf_node];
+    Node node;
+    node.name = gn.name;
+    node.parent = parent;
+    node.local = node_local(gn);
+    if (gn.mesh >= 0 && gn.mesh < int(mesh_map_.size())) node.meshes = mesh_map_[gn.mesh];
+    if (gn.camera >= 0 && gn.camera < int(gltf_.cameras.size())) {
+        const tinygltf::Camera& gc = gltf_.cameras[gn.camera];
+        Camera cam;
+        cam.name = gc.name.empty() ? gn.name : gc.name;
+        if (gc.type == "perspective" && gc.perspective.yfov > 0.0) cam.yfov_radians = float(gc.perspective.yfov);
+        else spdlog::warn("{}: camera {} is not perspective; rendered as a 45 degree pinhole", path_, gn.camera);
+        scene_.cameras.push_back(cam);
+        node.camera = int(scene_.cameras.size()) - 1;
+    }
+    scene_.nodes.push_back(std::move(node));
+    const int self = int(scene_.nodes.size()) - 1;
+    for (int child : gn.children)
+        if (Status s = add_node(child, self, depth + 1); !s) return s;
+    return {};
+}
+
+Status GltfImporter::import_nodes() {
+    std::vector<int> roots;
+    const int scene_index = gltf_.defaultScene >= 0 ? gltf_.defaultScene : 0;
+    if (scene_index < int(gltf_.scenes.size())) {
+        roots = gltf_.scenes[scene_index].nodes;
+    } else {  // no scenes: every node that is nobody's child is a root
+        std::vector<bool> is_child(gltf_.nodes.size(), false);
+        for (const auto& n : gltf_.nodes)
+            for (int c : n.children)
+                if (c >= 0 && c < int(is_child.size())) is_child[c] = true;
+        for (std::size_t i = 0; i < gltf_.nodes.size(); ++i)
+            if (!is_child[i]) roots.push_back(int(i));
+    }
+    for (int r : roots)
+        if (Status s = add_node(r, -1, 0); !s) return s;
+    return {};
+}
+
+Result<SceneModel> GltfImporter::run() {
+    scene_.name = path_;
+    import_images_and_textures();
+    import_materials();
+    if (Status s = import_meshes(); !s) return s.error();
+    if (Status s = import_nodes(); !s) return s.error();
+    flatten_nodes(scene_);
+    return std::move(scene_);
+}
+
+std::string first_line(const std::string& s) {
+    std::string line = s.substr(0, s.find('\n'));
+    return line.empty() ? "unknown error" : line;
+}
+
+}  // namespace
+
+Result<SceneModel> load_gltf(const std::string& path) {
+    tinygltf::Model model;
+    tinygltf::TinyGLTF loader;
+    ImageLoadContext ctx{path, {}};
+    loader.SetImageLoader(&decode_image, &ctx);
+    std::string err, warn;
+    const bool binary = std::filesystem::path(path).extension() == ".glb";
+    bool ok = false;
+    try {
+        ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    } catch (const std::exception& e) {  // nlohmann::json inside tinygltf may throw
+        return make_error(ErrorCode::parse_error, "{}: {}", path, e.what());
+    }
+    for (const std::string& w : ctx.warnings) spdlog::warn("{}", w);
+    if (!ok) return make_error(ErrorCode::parse_error, "{}: {}", path, first_line(err));
+    if (!warn.empty()) spdlog::warn("{}: {}", path, first_line(warn));
+    return GltfImporter(model, path).run();
+}
+
+}  // namespace pathfarm

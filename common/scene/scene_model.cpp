@@ -1,0 +1,66 @@
+// Queries over the flat scene and flattening of its node hierarchy.
+#include "common/scene/scene_model.h"
+
+#include "common/base/check.h"
+#include "common/math/transform.h"
+
+namespace pathfarm {
+
+const Image* SceneModel::texture_image(const TextureRef& ref) const {
+    if (ref.texture < 0 || ref.texture >= int(textures.size())) return nullptr;
+    const int image = textures[ref.texture].image;
+    return image >= 0 && image < int(images.size()) ? &images[image] : nullptr;
+}
+
+void flatten_nodes(SceneModel& scene) {
+    std::vector<Mat4> world(scene.nodes.size());
+    scene.instances.clear();
+    for (std::size_t i = 0; i < scene.nodes.size(); ++i) {
+        const Node& node = scene.nodes[i];
+        PF_CHECK_LT(node.parent, int(i));
+        world[i] = node.parent >= 0 ? world[node.parent] * node.local : node.local;
+        for (int mesh : node.meshes) scene.instances.push_back({mesh, int(i), world[i]});
+        if (node.camera >= 0 && node.camera < int(scene.cameras.size())) {
+            // Cameras ignore node scale: keep rotation and translation only.
+            Mat4 m = world[i];
+            for (int c = 0; c < 3; ++c) m[c] = Vec4(glm::normalize(Vec3(m[c])), 0.0f);
+            scene.cameras[node.camera].camera_to_world = m;
+        }
+    }
+}
+
+Bounds3f world_bounds(const SceneModel& scene) {
+    Bounds3f b;
+    for (const Instance& inst : scene.instances)
+        for (const Vec3& p : scene.meshes[inst.mesh].positions)
+            b.extend(transform_point(inst.transform, p));
+    return b;
+}
+
+std::size_t triangle_count(const SceneModel& scene) {
+    std::size_t n = 0;
+    for (const Instance& inst : scene.instances) n += scene.meshes[inst.mesh].triangle_count();
+    return n;
+}
+
+bool has_emissive_triangles(const SceneModel& scene) {
+    for (const Instance& inst : scene.instances) {
+        const Mesh& mesh = scene.meshes[inst.mesh];
+        if (mesh.triangle_count() > 0 && scene.materials[mesh.material].is_emissive()) return true;
+    }
+    return false;
+}
+
+bool uses_sun_sky(const SceneModel& scene) {
+    switch (scene.environment.sky) {
+        case SkyMode::on:
+            return true;
+        case SkyMode::off:
+            return false;
+        case SkyMode::automatic:
+        default:
+            return !has_emissive_triangles(scene);
+    }
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,56 @@
+// SceneModel: the flat scene shared by coordinator and tracers (STYLE.md §1). Everything is
+// addressed by index, which is its stable id within a model. Instances are the flattened
+// node hierarchy: one per (node, mesh) pair, with the node's world transform.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/math/types.h"
+#include "common/scene/camera.h"
+#include "common/scene/environment.h"
+#include "common/scene/material.h"
+#include "common/scene/mesh.h"
+#include "common/scene/texture.h"
+
+namespace pathfarm {
+
+struct Node {
+    std::string name;
+    int parent = -1;
+    Mat4 local{1.0f};
+    std::vector<int> meshes;
+    int camera = -1;
+};
+
+struct Instance {
+    int mesh = -1;
+    int node = -1;
+    Mat4 transform{1.0f};  // object to world
+};
+
+struct SceneModel {
+    std::string name;
+    std::vector<Image> images;
+    std::vector<Texture> textures;
+    std::vector<Material> materials;
+    std::vector<Mesh> meshes;
+    std::vector<Node> nodes;  // parents precede children
+    std::vector<Instance> instances;
+    std::vector<Camera> cameras;  // camera_to_world already in world space
+    Environment environment;
+
+    const Image* texture_image(const TextureRef& ref) const;
+};
+
+// Recomputes world transforms of nodes (parents first) and rebuilds instances and camera
+// transforms from them (a node's camera index points into `cameras`).
+void flatten_nodes(SceneModel& scene);
+
+Bounds3f world_bounds(const SceneModel& scene);
+std::size_t triangle_count(const SceneModel& scene);
+bool has_emissive_triangles(const SceneModel& scene);
+// Whether the sun/sky lights this scene (Environment::sky resolved against its emitters).
+bool uses_sun_sky(const SceneModel& scene);
+
+}  // namespace pathfarm

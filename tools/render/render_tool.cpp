@@ -1,0 +1,95 @@
+// Loads the scene, renders it with the chosen backend (in passes, for progress and time
+// budgets) and writes the image.
+#include "tools/render/render_tool.h"
+
+#include <spdlog/spdlog.h>
+
+#include "common/base/timer.h"
+#include "common/film/film.h"
+#include "common/film/image_io.h"
+#include "common/scene/load/scene_loader.h"
+#include "tracer-node/backend/render_backend.h"
+
+namespace pathfarm::tools {
+namespace {
+
+Result<Camera> pick_camera(const SceneModel& scene, int index, float aspect) {
+    if (index >= int(scene.cameras.size()))
+        return make_error(ErrorCode::invalid_argument, "--camera {}: scene has {} camera(s)", index, scene.cameras.size());
+    if (index >= 0) return scene.cameras[index];
+    if (!scene.cameras.empty()) return scene.cameras[0];
+    return frame_bounds(world_bounds(scene), aspect);
+}
+
+Status check_options(const RenderToolOptions& o) {
+    if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
+        return make_error(ErrorCode::invalid_argument, "--width/--height {}x{}: must be 1..16384", o.width, o.height);
+    if (o.spp <= 0 && o.seconds <= 0.0) return make_error(ErrorCode::invalid_argument, "--spp {}: must be positive", o.spp);
+    if (o.max_depth < 0 || o.max_depth > 1024) return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024", o.max_depth);
+    if (o.seconds < 0.0) return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive", o.seconds);
+    return {};
+}
+
+// Adds a pass of `pass_spp` samples into the running mean of `done` samples.
+void accumulate(FloatImage& mean, const FloatImage& pass, int done, int pass_spp) {
+    const double w = double(pass_spp) / double(done + pass_spp);
+    for (std::size_t i = 0; i < mean.rgb.size(); ++i)
+        mean.rgb[i] = float(double(mean.rgb[i]) + (double(pass.rgb[i]) - mean.rgb[i]) * w);
+}
+
+}  // namespace
+
+Result<RenderSummary> run_render(const RenderToolOptions& o) {
+    if (Status s = check_options(o); !s) return s.error();
+    auto kind = tracer::parse_backend_kind(o.backend);
+    if (!kind) return kind.error();
+    const Timer load_timer;
+    auto scene = load_scene(o.scene);
+    if (!scene) return scene.error();
+    spdlog::info("{}: {} triangles, {} instances, {} materials, {} textures (loaded in {:.2f} s)", o.scene,
+                 triangle_count(*scene), scene->instances.size(), scene->materials.size(), scene->textures.size(),
+                 load_timer.seconds());
+    auto camera = pick_camera(*scene, o.camera, float(o.width) / float(o.height));
+    if (!camera) return camera.error();
+    auto backend = tracer::create_backend(*kind, tracer::BackendOptions{o.threads});
+    if (!backend) return backend.error();
+    if (Status s = (*backend)->set_scene(*scene); !s) return s.error();
+
+    tracer::RenderJob job;
+    job.frame = FrameSpec{o.width, o.height, o.frame, o.seed, 0, 0, *camera};
+    job.integrator.max_depth = o.max_depth;
+    job.integrator.strategy = o.strategy;
+    job.y0 = 0;
+    job.y1 = o.height;
+    FloatImage image(o.width, o.height), pass(o.width, o.height);
+    RenderSummary summary;
+    SampleCounters counters;
+    const Timer timer;
+    double last_progress = 0.0;
+    // Passes double in size so progress and time budgets cost little; sample indices continue
+    // across passes, so the result equals a single render of the same total spp.
+    for (int pass_spp = 1; o.seconds > 0.0 ? timer.seconds() < o.seconds : summary.spp < o.spp; pass_spp *= 2) {
+        job.frame.first_sample = summary.spp;
+        job.frame.spp = o.seconds > 0.0 ? pass_spp : std::min(pass_spp, o.spp - summary.spp);
+        auto stats = (*backend)->render_rows(job, pass.rgb.data());
+        if (!stats) return stats.error();
+        accumulate(image, pass, summary.spp, job.frame.spp);
+        summary.spp += job.frame.spp;
+        counters.add(stats->counters);
+        if (timer.seconds() - last_progress > 2.0) {
+            last_progress = timer.seconds();
+            spdlog::info("progress: {} spp in {:.1f} s", summary.spp, last_progress);
+        }
+    }
+    summary.seconds = timer.seconds();
+    summary.samples_per_second = double(counters.camera_samples) / summary.seconds;
+    summary.rays_per_second = double(counters.rays) / summary.seconds;
+    summary.nonfinite_samples = counters.nonfinite_samples;
+    if (counters.nonfinite_samples > 0)
+        spdlog::warn("{} samples were NaN/Inf and were discarded", counters.nonfinite_samples);
+    if (Status s = write_image(o.out, image, o.exposure); !s) return s.error();
+    spdlog::info("wrote {} ({}x{}, {} spp)", o.out, o.width, o.height, summary.spp);
+    return summary;
+}
+
+}  // namespace pathfarm::tools
