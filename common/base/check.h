@@ -12,21 +12,21 @@ namespace pathfarm::detail {
 
 }  // namespace pathfarm::detail
 
-#define PF_CHECK(cond)                                                        \
-    do {                                                                      \
-        if (!(cond)) [[unlikely]]                                             \
-            ::pathfarm::detail::check_failed(__FILE__, __LINE__, #cond);      \
+#define PF_CHECK(cond)                                                   \
+    do {                                                                 \
+        if (!(cond)) [[unlikely]]                                        \
+            ::pathfarm::detail::check_failed(__FILE__, __LINE__, #cond); \
     } while (false)
 
 // Prints both operands, as pbrt's CHECK_EQ does; operands must be fmt-formattable.
-#define PF_CHECK_OP(a, b, op)                                                            \
-    do {                                                                                 \
-        const auto& pf_a_ = (a);                                                         \
-        const auto& pf_b_ = (b);                                                         \
-        if (!(pf_a_ op pf_b_)) [[unlikely]]                                              \
-            ::pathfarm::detail::check_failed(                                            \
-                __FILE__, __LINE__,                                                      \
-                fmt::format("{} " #op " {} ({} vs {})", #a, #b, pf_a_, pf_b_));          \
+#define PF_CHECK_OP(a, b, op)                                                   \
+    do {                                                                        \
+        const auto& pf_a_ = (a);                                                \
+        const auto& pf_b_ = (b);                                                \
+        if (!(pf_a_ op pf_b_)) [[unlikely]]                                     \
+            ::pathfarm::detail::check_failed(                                   \
+                __FILE__, __LINE__,                                             \
+                fmt::format("{} " #op " {} ({} vs {})", #a, #b, pf_a_, pf_b_)); \
     } while (false)
 
 #define PF_CHECK_EQ(a, b) PF_CHECK_OP(a, b, ==)

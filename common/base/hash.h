@@ -19,14 +19,16 @@ constexpr uint32_t hash_u32(uint32_t x) {
 // Order-dependent combination of several 32-bit words into one well-mixed word.
 constexpr uint32_t hash_words(std::initializer_list<uint32_t> words) {
     uint32_t h = 0x9e3779b9U;
-    for (uint32_t w : words) h = hash_u32(h ^ hash_u32(w + 0x632be5abU));
+    for (uint32_t w : words)
+        h = hash_u32(h ^ hash_u32(w + 0x632be5abU));
     return h;
 }
 
 // 64-bit FNV-1a over bytes, for content hashes of scene data.
 constexpr uint64_t fnv1a64(const unsigned char* data, std::size_t size,
                            uint64_t h = 0xcbf29ce484222325ULL) {
-    for (std::size_t i = 0; i < size; ++i) h = (h ^ data[i]) * 0x100000001b3ULL;
+    for (std::size_t i = 0; i < size; ++i)
+        h = (h ^ data[i]) * 0x100000001b3ULL;
     return h;
 }
 

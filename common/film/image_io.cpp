@@ -7,6 +7,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "common/film/pfm.h"
 #include "common/film/tonemap.h"
 
 namespace pathfarm {
@@ -14,28 +15,34 @@ namespace {
 
 std::string lower_extension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     return ext;
 }
 
 Status write_with_oiio(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
                        const void* data) {
     auto out = OIIO::ImageOutput::create(path);
-    if (!out) return make_error(ErrorCode::io_error, "{}: cannot write this format ({})", path, OIIO::geterror());
+    if (!out)
+        return make_error(ErrorCode::io_error, "{}: cannot write this format ({})", path,
+                          OIIO::geterror());
     if (!out->open(path, spec) || !out->write_image(type, data) || !out->close())
         return make_error(ErrorCode::io_error, "{}: {}", path, out->geterror());
     return {};
 }
 
 Result<Rgba8Image> read_rgba8_from(std::unique_ptr<OIIO::ImageInput> in, const std::string& name) {
-    if (!in) return make_error(ErrorCode::parse_error, "{}: cannot decode image ({})", name, OIIO::geterror());
+    if (!in)
+        return make_error(ErrorCode::parse_error, "{}: cannot decode image ({})", name,
+                          OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         return make_error(ErrorCode::parse_error, "{}: empty image", name);
     std::vector<uint8_t> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
         return make_error(ErrorCode::parse_error, "{}: {}", name, in->geterror());
-    Rgba8Image img{spec.width, spec.height, std::vector<uint8_t>(std::size_t(spec.width) * spec.height * 4)};
+    Rgba8Image img{spec.width, spec.height,
+                   std::vector<uint8_t>(std::size_t(spec.width) * spec.height * 4)};
     const int nc = spec.nchannels;
     for (std::size_t i = 0; i < std::size_t(spec.width) * spec.height; ++i) {
         const uint8_t* src = &pixels[i * nc];
@@ -52,14 +59,16 @@ Result<Rgba8Image> read_rgba8_from(std::unique_ptr<OIIO::ImageInput> in, const s
 
 Status write_image(const std::string& path, const FloatImage& image, float exposure) {
     const std::string ext = lower_extension(path);
-    if (ext == ".exr" || ext == ".pfm") {
+    if (ext == ".pfm") return write_pfm(path, image);
+    if (ext == ".exr") {
         OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
-        if (ext == ".exr") spec.attribute("compression", "zip");
+        spec.attribute("compression", "zip");
         return write_with_oiio(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
     }
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg")
         return write_rgb8(path, image.width, image.height, tonemap_to_srgb8(image, exposure));
-    return make_error(ErrorCode::invalid_argument, "{}: unknown image extension (use .exr, .pfm or .png)", path);
+    return make_error(ErrorCode::invalid_argument,
+                      "{}: unknown image extension (use .exr, .pfm or .png)", path);
 }
 
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
@@ -68,8 +77,11 @@ Status write_rgb8(const std::string& path, int width, int height, const std::vec
 }
 
 Result<FloatImage> read_image(const std::string& path) {
+    if (lower_extension(path) == ".pfm") return read_pfm(path);
     auto in = OIIO::ImageInput::open(path);
-    if (!in) return make_error(ErrorCode::not_found, "{}: cannot open image ({})", path, OIIO::geterror());
+    if (!in)
+        return make_error(ErrorCode::not_found, "{}: cannot open image ({})", path,
+                          OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     std::vector<float> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
@@ -79,7 +91,8 @@ Result<FloatImage> read_image(const std::string& path) {
     for (std::size_t i = 0; i < std::size_t(spec.width) * spec.height; ++i)
         for (int c = 0; c < 3; ++c) {
             const float v = pixels[i * spec.nchannels + std::min(c, spec.nchannels - 1)];
-            img.rgb[i * 3 + c] = srgb ? (v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f)) : v;
+            img.rgb[i * 3 + c] =
+                srgb ? (v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f)) : v;
         }
     return img;
 }
@@ -88,7 +101,8 @@ Result<Rgba8Image> read_rgba8(const std::string& path) {
     return read_rgba8_from(OIIO::ImageInput::open(path), path);
 }
 
-Result<Rgba8Image> decode_rgba8(const unsigned char* data, std::size_t size, const std::string& name_hint) {
+Result<Rgba8Image> decode_rgba8(const unsigned char* data, std::size_t size,
+                                const std::string& name_hint) {
     OIIO::Filesystem::IOMemReader reader(data, size);
     return read_rgba8_from(OIIO::ImageInput::open(name_hint, nullptr, &reader), name_hint);
 }

@@ -35,12 +35,18 @@ Rgb Bsdf::eval_metal(const Vec3& wo, const Vec3& wi) const {
 
 Rgb Bsdf::eval_plastic(const Vec3& wo, const Vec3& wi) const {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    const Vec3 m = glm::normalize(wo + wi);
-    const Rgb f = fresnel_schlick(f0_dielectric_, Rgb(mp_.specular), glm::dot(wo, m));
-    Rgb value = (1.0f - max_component(f)) * mp_.base_color * kInvPi;
+    // The Lambert base receives what the specular layer transmits on the way in and out. The
+    // glTF spec's (1 - F(v.h)) weighting reflects more than it receives at grazing angles; this
+    // symmetric form is reciprocal and conserves energy (bsdf_test).
+    const Rgb f0(f0_dielectric_), f90(mp_.specular);
+    const float t_o = 1.0f - max_component(fresnel_schlick(f0, f90, wo.z));
+    const float t_i = 1.0f - max_component(fresnel_schlick(f0, f90, wi.z));
+    Rgb value = (t_o * t_i) * mp_.base_color * kInvPi;
     if (!smooth_) {
+        const Vec3 m = glm::normalize(wo + wi);
         const Ggx ggx(mp_.alpha);
-        value += f * (ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
+        value += fresnel_schlick(f0, f90, glm::dot(wo, m)) *
+                 (ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
     }
     return value;
 }
@@ -56,8 +62,7 @@ float Bsdf::eval_glass(const Vec3& wo, const Vec3& wi) const {
     if (glm::dot(m, wi) * wi.z < 0.0f || glm::dot(m, wo) * wo.z < 0.0f) return 0.0f;
     const Ggx ggx(mp_.alpha);
     const float fr = fresnel_dielectric(glm::dot(wo, m), mp_.ior);
-    if (reflect_event)
-        return ggx.d(m) * ggx.g2(wo, wi) * fr / std::abs(4.0f * wi.z * wo.z);
+    if (reflect_event) return ggx.d(m) * ggx.g2(wo, wi) * fr / std::abs(4.0f * wi.z * wo.z);
     const float denom = sqr(glm::dot(wi, m) + glm::dot(wo, m) / etap) * wi.z * wo.z;
     const float ft = ggx.d(m) * (1.0f - fr) * ggx.g2(wo, wi) *
                      std::abs(glm::dot(wi, m) * glm::dot(wo, m) / denom);
@@ -154,8 +159,8 @@ bool Bsdf::sample(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const {
         u_lobe = (u_lobe - w_glass_) / std::max(1.0f - w_glass_, 1e-7f);
         const bool metal = u_lobe * (w_metal_ + w_plastic_) < w_metal_;
         const float ps = metal ? 1.0f : plastic_specular_probability(wo);
-        const float u_spec = metal ? 0.0f
-                                   : (u_lobe * (w_metal_ + w_plastic_) - w_metal_) / w_plastic_;
+        const float u_spec =
+            metal ? 0.0f : (u_lobe * (w_metal_ + w_plastic_) - w_metal_) / w_plastic_;
         const bool specular = metal || u_spec < ps;
         if (specular && smooth_) {
             out.wi = mirror_z(wo);

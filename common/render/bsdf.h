@@ -1,9 +1,10 @@
 // The glTF 2.0 BSDF at one surface point, in the local shading frame (+Z = shading normal):
 //   metallic * Metal + (1 - metallic) * [transmission * Glass + (1 - transmission) * Plastic]
 // Metal: GGX with Schlick Fresnel tinted by the base colour. Plastic: a GGX specular layer
-// (KHR_materials_specular, ior) over a Lambert base, mixed by the Fresnel term as the glTF
-// spec does. Glass: a rough or smooth dielectric (Walter et al. 2007) with exact Fresnel.
-// A GGX alpha below kDeltaAlpha is a perfect (delta) mirror or interface.
+// (KHR_materials_specular, ior) over a Lambert base that receives (1 - F) on the way in and
+// out (docs/rendering.md explains the departure from the glTF spec's v.h weighting). Glass: a rough
+// or smooth dielectric (Walter et al. 2007) with exact Fresnel. A GGX alpha below kDeltaAlpha is a
+// perfect (delta) mirror or interface.
 #pragma once
 
 #include "common/math/types.h"
@@ -25,9 +26,9 @@ struct MaterialPoint {
 
 struct BsdfSample {
     Vec3 wi{0.0f};
-    Rgb f{0.0f};        // BSDF value (no cosine); for delta lobes the value that makes
-                        // f * |cos| / pdf the lobe's throughput
-    float pdf = 0.0f;   // solid-angle density, or a discrete probability for delta lobes
+    Rgb f{0.0f};       // BSDF value (no cosine); for delta lobes the value that makes
+                       // f * |cos| / pdf the lobe's throughput
+    float pdf = 0.0f;  // solid-angle density, or a discrete probability for delta lobes
     bool delta = false;
 };
 

@@ -27,7 +27,9 @@ public:
         return 0.5f * (std::sqrt(1.0f + alpha_ * alpha_ * tan2) - 1.0f);
     }
     float g1(const Vec3& w) const { return 1.0f / (1.0f + lambda(w)); }
-    float g2(const Vec3& wo, const Vec3& wi) const { return 1.0f / (1.0f + lambda(wo) + lambda(wi)); }
+    float g2(const Vec3& wo, const Vec3& wi) const {
+        return 1.0f / (1.0f + lambda(wo) + lambda(wi));
+    }
 
     // Density of visible normals m seen from w (w on either side; uses |w.z|).
     float visible_d(const Vec3& w, const Vec3& m) const {

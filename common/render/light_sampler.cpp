@@ -17,7 +17,8 @@ Rgb mean_emission_texel(const Image* image) {
     const std::size_t step = std::max<std::size_t>(1, n / 4096);
     std::size_t count = 0;
     for (std::size_t i = 0; i < n; i += step, ++count)
-        for (int c = 0; c < 3; ++c) sum[c] += srgb_to_linear(image->rgba[i * 4 + c] / 255.0f);
+        for (int c = 0; c < 3; ++c)
+            sum[c] += srgb_to_linear(image->rgba[i * 4 + c] / 255.0f);
     return sum / float(std::max<std::size_t>(count, 1));
 }
 
@@ -31,7 +32,8 @@ LightSampler::LightSampler(const ShadingScene& shading) : shading_(shading) {
         const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
         const Material& mat = scene.materials[mesh.material];
         if (!mat.is_emissive() || mesh.triangle_count() == 0) continue;
-        const Rgb mean = mat.emission() * mean_emission_texel(scene.texture_image(mat.emissive_texture));
+        const Rgb mean =
+            mat.emission() * mean_emission_texel(scene.texture_image(mat.emissive_texture));
         const float sides = mat.double_sided ? 2.0f : 1.0f;
         instance_offset_[i] = int64_t(triangles_.size());
         for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -45,7 +47,8 @@ LightSampler::LightSampler(const ShadingScene& shading) : shading_(shading) {
         }
     }
     double total = 0.0;
-    for (double pw : power) total += pw;
+    for (double pw : power)
+        total += pw;
     cdf_.resize(power.size());
     double acc = 0.0;
     for (std::size_t k = 0; k < power.size(); ++k) {

@@ -13,10 +13,10 @@
 namespace pathfarm {
 
 struct LightSample {
-    Vec3 p{0.0f};          // point on the light (triangles), or a direction (environment)
-    Vec3 n{0.0f};          // front normal of the triangle
-    Rgb radiance{0.0f};    // emitted towards the receiver, before visibility
-    float pdf = 0.0f;      // includes the selection probability; area or solid-angle measure
+    Vec3 p{0.0f};        // point on the light (triangles), or a direction (environment)
+    Vec3 n{0.0f};        // front normal of the triangle
+    Rgb radiance{0.0f};  // emitted towards the receiver, before visibility
+    float pdf = 0.0f;    // includes the selection probability; area or solid-angle measure
     bool environment = false;
 };
 
@@ -45,8 +45,8 @@ private:
 
     const ShadingScene& shading_;
     std::vector<EmissiveTriangle> triangles_;
-    std::vector<float> cdf_;                 // cumulative power, normalised to 1
-    std::vector<int64_t> instance_offset_;   // first light of each instance, or -1
+    std::vector<float> cdf_;                // cumulative power, normalised to 1
+    std::vector<int64_t> instance_offset_;  // first light of each instance, or -1
     std::unique_ptr<SunSky> sun_sky_;
     float p_environment_ = 0.0f;
 };

@@ -50,7 +50,7 @@ float PathTracer::light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp,
 }
 
 Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Frame& frame,
-                              const Vec3& wo_local, PixelSampler& sampler,
+                              const Vec3& shading_ng, const Vec3& wo_local, PixelSampler& sampler,
                               SampleCounters& counters) const {
     const Vec2 u_select = sampler.next_2d();
     const Vec2 u_light = sampler.next_2d();
@@ -74,8 +74,8 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
         pdf_light *= dist2 / cos_light;  // area to solid angle
     }
     const Vec3 wi_local = frame.to_local(wi);
+    if (!consistent_side(wi, wi_local, shading_ng)) return Rgb(0.0f);
     const Vec3 ng = glm::dot(wi, sp.ng) > 0.0f ? sp.ng : -sp.ng;
-    if (!consistent_side(wi, wi_local, ng)) return Rgb(0.0f);
     const Rgb f = bsdf.eval(wo_local, wi_local) * std::abs(wi_local.z);
     if (max_component(f) <= 0.0f) return Rgb(0.0f);
 
@@ -99,7 +99,7 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
 Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
     Rgb radiance(0.0f);
     Rgb beta(1.0f);
-    Rgb sigma_a(0.0f);  // absorption of the medium the ray travels in
+    Rgb sigma_a(0.0f);         // absorption of the medium the ray travels in
     bool delta_bounce = true;  // the camera and delta lobes: no MIS partner for emitters
     float bsdf_pdf = 0.0f;
     Vec3 last_point = ray.o;
@@ -127,9 +127,10 @@ Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) 
         if (count_emission) {
             const Rgb le = shading_.emitted(sp, wo);
             if (max_component(le) > 0.0f) {
-                const float w = delta_bounce || settings_.strategy == LightStrategy::bsdf_only
-                                    ? 1.0f
-                                    : power_heuristic(bsdf_pdf, light_pdf_solid_angle(hit, sp, last_point));
+                const float w =
+                    delta_bounce || settings_.strategy == LightStrategy::bsdf_only
+                        ? 1.0f
+                        : power_heuristic(bsdf_pdf, light_pdf_solid_angle(hit, sp, last_point));
                 radiance += beta * le * w;
             }
         }
@@ -139,21 +140,22 @@ Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) 
         const Bsdf bsdf(mp);
         const Orientation o = orient(sp, wo, bsdf.transmissive());
         const Vec3 wo_local = o.frame.to_local(wo);
-        radiance += beta * sample_direct(sp, bsdf, o.frame, wo_local, sampler, counters);
+        radiance += beta * sample_direct(sp, bsdf, o.frame, o.ng, wo_local, sampler, counters);
 
         const Vec2 u_lobe = sampler.next_2d();
         const Vec2 u_dir = sampler.next_2d();
         BsdfSample bs;
         if (!bsdf.sample(wo_local, u_lobe.x, u_dir, bs)) break;
         const Vec3 wi = o.frame.to_world(bs.wi);
+        if (!consistent_side(wi, bs.wi, o.ng)) break;
         const Vec3 ng_out = glm::dot(wi, o.ng) > 0.0f ? o.ng : -o.ng;
-        if (!consistent_side(wi, bs.wi, ng_out)) break;
         beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
         delta_bounce = bs.delta;
         bsdf_pdf = bs.pdf;
 
         if (bsdf.transmissive() && glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
-            sigma_a = glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material) : Rgb(0.0f);
+            sigma_a = glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material)
+                                                 : Rgb(0.0f);
 
         if (depth + 1 >= settings_.rr_start_depth) {
             const float survive = std::min(1.0f, max_component(beta));

@@ -44,7 +44,8 @@ public:
 
 private:
     Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
-                      const Vec3& wo_local, PixelSampler& sampler, SampleCounters& counters) const;
+                      const Vec3& shading_ng, const Vec3& wo_local, PixelSampler& sampler,
+                      SampleCounters& counters) const;
     float light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp, const Vec3& origin) const;
 
     const ShadingScene& shading_;

@@ -49,14 +49,16 @@ SurfacePoint ShadingScene::surface(const Hit& hit) const {
     sp.ns = sp.ng;
     const Mat3& nm = normal_matrices_[hit.instance];
     if (mesh.has_normals()) {
-        const Vec3 n = b0 * mesh.normals[i[0]] + hit.u * mesh.normals[i[1]] + hit.v * mesh.normals[i[2]];
+        const Vec3 n =
+            b0 * mesh.normals[i[0]] + hit.u * mesh.normals[i[1]] + hit.v * mesh.normals[i[2]];
         sp.ns = normalize_or(nm * n, sp.ng);
         if (glm::dot(sp.ns, sp.ng) < 0.0f) sp.ns = -sp.ns;
     }
     if (mesh.has_uvs())
         sp.uv = b0 * mesh.uvs[i[0]] + hit.u * mesh.uvs[i[1]] + hit.v * mesh.uvs[i[2]];
     if (mesh.has_tangents()) {
-        const Vec4 t = b0 * mesh.tangents[i[0]] + hit.u * mesh.tangents[i[1]] + hit.v * mesh.tangents[i[2]];
+        const Vec4 t =
+            b0 * mesh.tangents[i[0]] + hit.u * mesh.tangents[i[1]] + hit.v * mesh.tangents[i[2]];
         sp.tangent = Mat3(inst.transform) * Vec3(t);
         sp.bitangent_sign = (t.w < 0.0f ? -1.0f : 1.0f) * handedness_[hit.instance];
     }
@@ -88,13 +90,15 @@ MaterialPoint ShadingScene::material_point(SurfacePoint& sp) const {
     mp.specular = m.specular_factor;
     mp.specular_color = m.specular_color_factor;
     if (m.normal_texture.valid() && glm::dot(sp.tangent, sp.tangent) > 0.0f) {
-        const Vec4 t = sample_image(scene_.texture_image(m.normal_texture),
-                                    scene_.textures[m.normal_texture.texture].sampler, sp.uv, false);
+        const Vec4 t =
+            sample_image(scene_.texture_image(m.normal_texture),
+                         scene_.textures[m.normal_texture.texture].sampler, sp.uv, false);
         Vec3 tn = Vec3(t) * 2.0f - Vec3(1.0f);
         tn.x *= m.normal_scale;
         tn.y *= m.normal_scale;
         const Frame f = Frame::from_normal_tangent(sp.ns, sp.tangent);
-        const Vec3 n = normalize_or(f.t * tn.x + f.b * (tn.y * sp.bitangent_sign) + sp.ns * tn.z, sp.ns);
+        const Vec3 n =
+            normalize_or(f.t * tn.x + f.b * (tn.y * sp.bitangent_sign) + sp.ns * tn.z, sp.ns);
         if (glm::dot(n, sp.ng) > 0.0f) sp.ns = n;
     }
     return mp;

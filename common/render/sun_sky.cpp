@@ -27,7 +27,8 @@ float zenith_chromaticity(float t, float th, const float c[3][4]) {
     const float th2 = th * th, th3 = th2 * th;
     float v = 0.0f;
     const float tp[3] = {t * t, t, 1.0f};
-    for (int r = 0; r < 3; ++r) v += tp[r] * (c[r][0] * th3 + c[r][1] * th2 + c[r][2] * th + c[r][3]);
+    for (int r = 0; r < 3; ++r)
+        v += tp[r] * (c[r][0] * th3 + c[r][1] * th2 + c[r][2] * th + c[r][3]);
     return v;
 }
 
@@ -63,7 +64,8 @@ SunSky::SunSky(const Environment& env) {
     sky_scale_ = 0.04f * env.sun_scale;
     const float sun_solid_angle = 2.0f * kPi * (1.0f - sun_cos_max_);
     const float above = sun_dir_.y > 0.0f ? 1.0f : 0.0f;
-    sun_radiance_ = Rgb(1.0f, 0.93f, 0.82f) * (above * kSunIrradiance * env.sun_scale / sun_solid_angle);
+    sun_radiance_ =
+        Rgb(1.0f, 0.93f, 0.82f) * (above * kSunIrradiance * env.sun_scale / sun_solid_angle);
     const float sky_power = kPi * luminance(sky_radiance(Vec3(0, 1, 0)));
     const float sun_power = luminance(sun_radiance_) * sun_solid_angle;
     p_sun_ = sun_power + sky_power > 0.0f

@@ -12,7 +12,7 @@ namespace pathfarm {
 struct Material {
     std::string name;
 
-    Vec4 base_color_factor{1.0f};  // linear RGBA
+    Vec4 base_color_factor{1.0f};   // linear RGBA
     TextureRef base_color_texture;  // sRGB
     float metallic_factor = 1.0f;   // glTF defaults
     float roughness_factor = 1.0f;

@@ -12,9 +12,9 @@ namespace pathfarm {
 struct Mesh {
     std::string name;
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;   // empty: flat shading (glTF requires flat normals then)
-    std::vector<Vec2> uvs;       // TEXCOORD_0
-    std::vector<Vec4> tangents;  // xyz tangent, w = bitangent sign (glTF)
+    std::vector<Vec3> normals;      // empty: flat shading (glTF requires flat normals then)
+    std::vector<Vec2> uvs;          // TEXCOORD_0
+    std::vector<Vec4> tangents;     // xyz tangent, w = bitangent sign (glTF)
     std::vector<uint32_t> indices;  // three per triangle, counter-clockwise = front face
     int material = 0;
 

@@ -19,11 +19,13 @@ void flatten_nodes(SceneModel& scene) {
         const Node& node = scene.nodes[i];
         PF_CHECK_LT(node.parent, int(i));
         world[i] = node.parent >= 0 ? world[node.parent] * node.local : node.local;
-        for (int mesh : node.meshes) scene.instances.push_back({mesh, int(i), world[i]});
+        for (int mesh : node.meshes)
+            scene.instances.push_back({mesh, int(i), world[i]});
         if (node.camera >= 0 && node.camera < int(scene.cameras.size())) {
             // Cameras ignore node scale: keep rotation and translation only.
             Mat4 m = world[i];
-            for (int c = 0; c < 3; ++c) m[c] = Vec4(glm::normalize(Vec3(m[c])), 0.0f);
+            for (int c = 0; c < 3; ++c)
+                m[c] = Vec4(glm::normalize(Vec3(m[c])), 0.0f);
             scene.cameras[node.camera].camera_to_world = m;
         }
     }
@@ -39,7 +41,8 @@ Bounds3f world_bounds(const SceneModel& scene) {
 
 std::size_t triangle_count(const SceneModel& scene) {
     std::size_t n = 0;
-    for (const Instance& inst : scene.instances) n += scene.meshes[inst.mesh].triangle_count();
+    for (const Instance& inst : scene.instances)
+        n += scene.meshes[inst.mesh].triangle_count();
     return n;
 }
 

@@ -10,7 +10,8 @@ namespace {
 const std::array<float, 256>& srgb_table() {
     static const std::array<float, 256> table = [] {
         std::array<float, 256> t{};
-        for (int i = 0; i < 256; ++i) t[i] = srgb_to_linear(float(i) / 255.0f);
+        for (int i = 0; i < 256; ++i)
+            t[i] = srgb_to_linear(float(i) / 255.0f);
         return t;
     }();
     return table;

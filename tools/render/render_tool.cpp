@@ -15,7 +15,8 @@ namespace {
 
 Result<Camera> pick_camera(const SceneModel& scene, int index, float aspect) {
     if (index >= int(scene.cameras.size()))
-        return make_error(ErrorCode::invalid_argument, "--camera {}: scene has {} camera(s)", index, scene.cameras.size());
+        return make_error(ErrorCode::invalid_argument, "--camera {}: scene has {} camera(s)", index,
+                          scene.cameras.size());
     if (index >= 0) return scene.cameras[index];
     if (!scene.cameras.empty()) return scene.cameras[0];
     return frame_bounds(world_bounds(scene), aspect);
@@ -23,10 +24,15 @@ Result<Camera> pick_camera(const SceneModel& scene, int index, float aspect) {
 
 Status check_options(const RenderToolOptions& o) {
     if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
-        return make_error(ErrorCode::invalid_argument, "--width/--height {}x{}: must be 1..16384", o.width, o.height);
-    if (o.spp <= 0 && o.seconds <= 0.0) return make_error(ErrorCode::invalid_argument, "--spp {}: must be positive", o.spp);
-    if (o.max_depth < 0 || o.max_depth > 1024) return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024", o.max_depth);
-    if (o.seconds < 0.0) return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive", o.seconds);
+        return make_error(ErrorCode::invalid_argument, "--width/--height {}x{}: must be 1..16384",
+                          o.width, o.height);
+    if (o.spp <= 0 && o.seconds <= 0.0)
+        return make_error(ErrorCode::invalid_argument, "--spp {}: must be positive", o.spp);
+    if (o.max_depth < 0 || o.max_depth > 1024)
+        return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024",
+                          o.max_depth);
+    if (o.seconds < 0.0)
+        return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive", o.seconds);
     return {};
 }
 
@@ -46,9 +52,9 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     const Timer load_timer;
     auto scene = load_scene(o.scene);
     if (!scene) return scene.error();
-    spdlog::info("{}: {} triangles, {} instances, {} materials, {} textures (loaded in {:.2f} s)", o.scene,
-                 triangle_count(*scene), scene->instances.size(), scene->materials.size(), scene->textures.size(),
-                 load_timer.seconds());
+    spdlog::info("{}: {} triangles, {} instances, {} materials, {} textures (loaded in {:.2f} s)",
+                 o.scene, triangle_count(*scene), scene->instances.size(), scene->materials.size(),
+                 scene->textures.size(), load_timer.seconds());
     auto camera = pick_camera(*scene, o.camera, float(o.width) / float(o.height));
     if (!camera) return camera.error();
     auto backend = tracer::create_backend(*kind, tracer::BackendOptions{o.threads});
@@ -68,7 +74,8 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     double last_progress = 0.0;
     // Passes double in size so progress and time budgets cost little; sample indices continue
     // across passes, so the result equals a single render of the same total spp.
-    for (int pass_spp = 1; o.seconds > 0.0 ? timer.seconds() < o.seconds : summary.spp < o.spp; pass_spp *= 2) {
+    for (int pass_spp = 1; o.seconds > 0.0 ? timer.seconds() < o.seconds : summary.spp < o.spp;
+         pass_spp *= 2) {
         job.frame.first_sample = summary.spp;
         job.frame.spp = o.seconds > 0.0 ? pass_spp : std::min(pass_spp, o.spp - summary.spp);
         auto stats = (*backend)->render_rows(job, pass.rgb.data());

@@ -10,20 +10,24 @@ namespace pathfarm::tracer {
 Result<BackendKind> parse_backend_kind(const std::string& name) {
     if (name == "embree") return BackendKind::embree;
     if (name == "opencl") return BackendKind::opencl;
-    return make_error(ErrorCode::invalid_argument, "--backend {}: unknown backend (embree or opencl)", name);
+    return make_error(ErrorCode::invalid_argument,
+                      "--backend {}: unknown backend (embree or opencl)", name);
 }
 
-Result<std::unique_ptr<RenderBackend>> create_backend(BackendKind kind, const BackendOptions& options) {
+Result<std::unique_ptr<RenderBackend>> create_backend(BackendKind kind,
+                                                      const BackendOptions& options) {
     switch (kind) {
         case BackendKind::embree:
 #ifdef PATHFARM_HAS_EMBREE
             return make_embree_backend(options);
 #else
-            return make_error(ErrorCode::unsupported, "embree backend: not built (PATHFARM_WITH_EMBREE=OFF)");
+            return make_error(ErrorCode::unsupported,
+                              "embree backend: not built (PATHFARM_WITH_EMBREE=OFF)");
 #endif
         case BackendKind::opencl:
         default:
-            return make_error(ErrorCode::unsupported, "opencl backend: not available in this build yet");
+            return make_error(ErrorCode::unsupported,
+                              "opencl backend: not available in this build yet");
     }
 }
 

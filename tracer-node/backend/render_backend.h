@@ -42,6 +42,7 @@ struct BackendOptions {
 };
 
 Result<BackendKind> parse_backend_kind(const std::string& name);
-Result<std::unique_ptr<RenderBackend>> create_backend(BackendKind kind, const BackendOptions& options);
+Result<std::unique_ptr<RenderBackend>> create_backend(BackendKind kind,
+                                                      const BackendOptions& options);
 
 }  // namespace pathfarm::tracer

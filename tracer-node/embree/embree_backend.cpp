@@ -21,7 +21,8 @@ constexpr int kTileSize = 16;
 class EmbreeBackend final : public RenderBackend {
 public:
     explicit EmbreeBackend(const BackendOptions& options)
-        : options_(options), arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {}
+        : options_(options),
+          arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {}
 
     std::string name() const override { return "embree"; }
 
@@ -29,7 +30,8 @@ public:
         lights_.reset();
         shading_.reset();
         kernel_.reset();
-        Result<std::unique_ptr<EmbreeScene>> kernel = Error{ErrorCode::backend_error, "embree: scene not built"};
+        Result<std::unique_ptr<EmbreeScene>> kernel =
+            Error{ErrorCode::backend_error, "embree: scene not built"};
         arena_.execute([&] { kernel = EmbreeScene::build(scene, options_.threads); });
         if (!kernel) return kernel.error();
         kernel_ = std::move(kernel.value());
@@ -39,11 +41,14 @@ public:
     }
 
     Result<RenderStats> render_rows(const RenderJob& job, float* out) override {
-        if (!kernel_) return make_error(ErrorCode::invalid_argument, "embree backend: render before set_scene");
+        if (!kernel_)
+            return make_error(ErrorCode::invalid_argument,
+                              "embree backend: render before set_scene");
         const FrameSpec& f = job.frame;
         if (f.width <= 0 || f.height <= 0 || job.y0 < 0 || job.y1 > f.height || job.y0 > job.y1)
-            return make_error(ErrorCode::invalid_argument, "embree backend: rows [{}, {}) outside a {}x{} frame",
-                              job.y0, job.y1, f.width, f.height);
+            return make_error(ErrorCode::invalid_argument,
+                              "embree backend: rows [{}, {}) outside a {}x{} frame", job.y0, job.y1,
+                              f.width, f.height);
         const PathTracer tracer(*shading_, *lights_, *kernel_, job.integrator);
         tbb::enumerable_thread_specific<SampleCounters> counters;
         const Timer timer;
@@ -52,15 +57,17 @@ public:
             tbb::parallel_for(
                 tbb::blocked_range2d<int>(job.y0, job.y1, kTileSize, 0, f.width, kTileSize),
                 [&](const tbb::blocked_range2d<int>& r) {
-                    float* dst = out + std::size_t(r.rows().begin() - job.y0) * stride + 3 * r.cols().begin();
-                    render_block(tracer, f, r.cols().begin(), r.cols().end(), r.rows().begin(), r.rows().end(),
-                                 dst, stride, counters.local());
+                    float* dst = out + std::size_t(r.rows().begin() - job.y0) * stride +
+                                 3 * r.cols().begin();
+                    render_block(tracer, f, r.cols().begin(), r.cols().end(), r.rows().begin(),
+                                 r.rows().end(), dst, stride, counters.local());
                 },
                 tbb::simple_partitioner());
         });
         RenderStats stats;
         stats.seconds = timer.seconds();
-        for (const SampleCounters& c : counters) stats.counters.add(c);
+        for (const SampleCounters& c : counters)
+            stats.counters.add(c);
         return stats;
     }
 
@@ -75,7 +82,9 @@ private:
 }  // namespace
 
 Result<std::unique_ptr<RenderBackend>> make_embree_backend(const BackendOptions& options) {
-    if (options.threads < 0) return make_error(ErrorCode::invalid_argument, "--threads {}: must be >= 0", options.threads);
+    if (options.threads < 0)
+        return make_error(ErrorCode::invalid_argument, "--threads {}: must be >= 0",
+                          options.threads);
     return std::unique_ptr<RenderBackend>(std::make_unique<EmbreeBackend>(options));
 }
 

@@ -14,13 +14,20 @@ namespace {
 
 const char* embree_error_name(RTCError code) {
     switch (code) {
-        case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
-        case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
-        case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
-        case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
-        case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
-        case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
-        default: return "RTC_ERROR_UNKNOWN";
+        case RTC_ERROR_NONE:
+            return "RTC_ERROR_NONE";
+        case RTC_ERROR_INVALID_ARGUMENT:
+            return "RTC_ERROR_INVALID_ARGUMENT";
+        case RTC_ERROR_INVALID_OPERATION:
+            return "RTC_ERROR_INVALID_OPERATION";
+        case RTC_ERROR_OUT_OF_MEMORY:
+            return "RTC_ERROR_OUT_OF_MEMORY";
+        case RTC_ERROR_UNSUPPORTED_CPU:
+            return "RTC_ERROR_UNSUPPORTED_CPU";
+        case RTC_ERROR_CANCELLED:
+            return "RTC_ERROR_CANCELLED";
+        default:
+            return "RTC_ERROR_UNKNOWN";
     }
 }
 
@@ -35,7 +42,8 @@ struct EmbreeScene::Impl {
     std::string first_error;  // first error wins (STYLE.md §5.4)
 
     ~Impl() {
-        for (RTCScene s : children) rtcReleaseScene(s);
+        for (RTCScene s : children)
+            rtcReleaseScene(s);
         if (top) rtcReleaseScene(top);
         if (device) rtcReleaseDevice(device);
     }
@@ -44,19 +52,23 @@ struct EmbreeScene::Impl {
         auto* self = static_cast<Impl*>(user);
         std::lock_guard lock(self->error_mutex);
         if (self->first_error.empty())
-            self->first_error = std::string(embree_error_name(code)) + ": " + (message ? message : "");
+            self->first_error =
+                std::string(embree_error_name(code)) + ": " + (message ? message : "");
     }
 
     RTCGeometry make_triangles(const Mesh& mesh, const Mat4* to_world) {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), mesh.positions.size()));
-        auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(uint32_t), mesh.triangle_count()));
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                              mesh.positions.size()));
+        auto* idx = static_cast<uint32_t*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(uint32_t), mesh.triangle_count()));
         if (v == nullptr || idx == nullptr) return geom;
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
             // Exactly the arithmetic ShadingScene uses, so hits and shading agree.
-            const Vec3 p = to_world ? transform_point(*to_world, mesh.positions[i]) : mesh.positions[i];
+            const Vec3 p =
+                to_world ? transform_point(*to_world, mesh.positions[i]) : mesh.positions[i];
             v[3 * i] = p.x;
             v[3 * i + 1] = p.y;
             v[3 * i + 2] = p.z;
@@ -77,7 +89,8 @@ struct EmbreeScene::Impl {
         top = rtcNewScene(device);
         rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_HIGH);
         std::vector<int> uses(scene.meshes.size(), 0);
-        for (const Instance& inst : scene.instances) ++uses[inst.mesh];
+        for (const Instance& inst : scene.instances)
+            ++uses[inst.mesh];
         std::vector<RTCScene> mesh_scene(scene.meshes.size(), nullptr);
         for (uint32_t i = 0; i < scene.instances.size(); ++i) {
             const Instance& inst = scene.instances[i];
@@ -115,11 +128,13 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const SceneModel& scene,
     const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
     impl->device = rtcNewDevice(config.c_str());
     if (impl->device == nullptr)
-        return make_error(ErrorCode::backend_error, "embree: cannot create device ({})", embree_error_name(rtcGetDeviceError(nullptr)));
+        return make_error(ErrorCode::backend_error, "embree: cannot create device ({})",
+                          embree_error_name(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(impl->device, &Impl::on_error, impl.get());
     impl->build(scene);
     if (!impl->first_error.empty())
-        return make_error(ErrorCode::backend_error, "embree: scene build failed: {}", impl->first_error);
+        return make_error(ErrorCode::backend_error, "embree: scene build failed: {}",
+                          impl->first_error);
     return std::unique_ptr<EmbreeScene>(new EmbreeScene(std::move(impl)));
 }
 
@@ -143,7 +158,8 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->top, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    const uint32_t top_id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+    const uint32_t top_id =
+        rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
     hit.t = rh.ray.tfar;
     hit.instance = impl_->geometry_instance[top_id];
     hit.prim = rh.hit.primID;

@@ -27,19 +27,23 @@ SceneModel make_cornell_box() {
     b.add_instance(b.add_mesh(make_quad(c + x, z, y, red)), id, -1, "left-red");
     b.add_instance(b.add_mesh(make_quad(c - x, y, z, green)), id, -1, "right-green");
     const Vec3 lc(0.278f, h - 0.0005f, 0.2795f);
-    b.add_instance(b.add_mesh(make_quad(lc, Vec3(0.065f, 0, 0), Vec3(0, 0, 0.0525f), light)), id, -1, "light");
+    b.add_instance(b.add_mesh(make_quad(lc, Vec3(0.065f, 0, 0), Vec3(0, 0, 0.0525f), light)), id,
+                   -1, "light");
 
     const int cube = b.add_mesh(make_unit_cube(white));
     const auto block = [&](Vec3 centre, float angle_deg, Vec3 size) {
         return compose_trs(centre, glm::angleAxis(glm::radians(angle_deg), Vec3(0, 1, 0)), size);
     };
-    b.add_instance(cube, block({0.1855f, 0.0825f, 0.169f}, -17.0f, {0.167f, 0.165f, 0.167f}), -1, "short-block");
-    b.add_instance(cube, block({0.3685f, 0.165f, 0.3513f}, 17.0f, {0.166f, 0.33f, 0.166f}), -1, "tall-block");
+    b.add_instance(cube, block({0.1855f, 0.0825f, 0.169f}, -17.0f, {0.167f, 0.165f, 0.167f}), -1,
+                   "short-block");
+    b.add_instance(cube, block({0.3685f, 0.165f, 0.3513f}, 17.0f, {0.166f, 0.33f, 0.166f}), -1,
+                   "tall-block");
 
     Camera cam;
     cam.name = "cornell-camera";
     cam.yfov_radians = 2.0f * std::atan(0.0125f / 0.035f);
-    cam.camera_to_world = look_at_camera({0.278f, 0.273f, -0.8f}, {0.278f, 0.273f, 0.0f}, {0, 1, 0});
+    cam.camera_to_world =
+        look_at_camera({0.278f, 0.273f, -0.8f}, {0.278f, 0.273f, 0.0f}, {0, 1, 0});
     b.add_camera(cam);
     b.environment().sky = SkyMode::off;
     return b.finish();

@@ -15,7 +15,8 @@ namespace {
 // Tiles with grout and a slight per-tile tint: a game-like floor texture, made in code so the
 // demo needs no files.
 Image make_floor_image(int size) {
-    Image img{"procedural-floor-tiles", size, size, std::vector<uint8_t>(std::size_t(size) * size * 4)};
+    Image img{"procedural-floor-tiles", size, size,
+              std::vector<uint8_t>(std::size_t(size) * size * 4)};
     const int tile = size / 4;
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
@@ -24,7 +25,8 @@ Image make_floor_image(int size) {
             const bool dark = (tx + ty) % 2 == 1;
             const uint32_t h = hash_words({uint32_t(tx), uint32_t(ty)});
             const float tint = 0.9f + 0.2f * float(h & 0xff) / 255.0f;
-            Vec3 c = grout ? Vec3(0.25f) : (dark ? Vec3(0.35f, 0.3f, 0.27f) : Vec3(0.8f, 0.76f, 0.7f)) * tint;
+            Vec3 c = grout ? Vec3(0.25f)
+                           : (dark ? Vec3(0.35f, 0.3f, 0.27f) : Vec3(0.8f, 0.76f, 0.7f)) * tint;
             uint8_t* p = &img.rgba[(std::size_t(y) * size + x) * 4];
             for (int k = 0; k < 3; ++k)
                 p[k] = uint8_t(std::lround(255.0f * linear_to_srgb(std::clamp(c[k], 0.0f, 1.0f))));
@@ -50,12 +52,17 @@ void add_room(SceneBuilder& b, int wall, int floor) {
     const Mat4 id(1.0f);
     // Room: x in [-4, 4], y in [0, 3], z in [-8, 1]. Front faces point inwards.
     Mesh floor_mesh = make_quad({0, 0, -3.5f}, {0, 0, 4.5f}, {4, 0, 0}, floor);
-    for (Vec2& uv : floor_mesh.uvs) uv *= Vec2(4.5f, 4.0f);
+    for (Vec2& uv : floor_mesh.uvs)
+        uv *= Vec2(4.5f, 4.0f);
     b.add_instance(b.add_mesh(std::move(floor_mesh)), id, -1, "floor");
-    b.add_instance(b.add_mesh(make_quad({0, 3, -3.5f}, {4, 0, 0}, {0, 0, 4.5f}, wall)), id, -1, "ceiling");
-    b.add_instance(b.add_mesh(make_quad({0, 1.5f, -8}, {4, 0, 0}, {0, 1.5f, 0}, wall)), id, -1, "back-wall");
-    b.add_instance(b.add_mesh(make_quad({0, 1.5f, 1}, {0, 1.5f, 0}, {4, 0, 0}, wall)), id, -1, "front-wall");
-    b.add_instance(b.add_mesh(make_quad({-4, 1.5f, -3.5f}, {0, 1.5f, 0}, {0, 0, 4.5f}, wall)), id, -1, "left-wall");
+    b.add_instance(b.add_mesh(make_quad({0, 3, -3.5f}, {4, 0, 0}, {0, 0, 4.5f}, wall)), id, -1,
+                   "ceiling");
+    b.add_instance(b.add_mesh(make_quad({0, 1.5f, -8}, {4, 0, 0}, {0, 1.5f, 0}, wall)), id, -1,
+                   "back-wall");
+    b.add_instance(b.add_mesh(make_quad({0, 1.5f, 1}, {0, 1.5f, 0}, {4, 0, 0}, wall)), id, -1,
+                   "front-wall");
+    b.add_instance(b.add_mesh(make_quad({-4, 1.5f, -3.5f}, {0, 1.5f, 0}, {0, 0, 4.5f}, wall)), id,
+                   -1, "left-wall");
     // The right wall (x = 4) has a window: z in [-5.5, -2.5], y in [0.8, 2.4].
     Mesh right = make_quad({4, 0.4f, -3.5f}, {0, 0, 4.5f}, {0, 0.4f, 0}, wall);
     append_mesh(right, make_quad({4, 2.7f, -3.5f}, {0, 0, 4.5f}, {0, 0.3f, 0}, wall));
@@ -73,8 +80,10 @@ SceneModel make_default_scene() {
     floor_mat.base_color_texture.texture = b.add_texture(Texture{floor_image, Sampler{}});
     const int floor = b.add_material(floor_mat);
     const int wall = b.add_material(make_lambert("plaster", Rgb(0.7f, 0.68f, 0.64f)));
-    const int marble = b.add_material(make_material("marble", Rgb(0.85f, 0.85f, 0.82f), 0.0f, 0.25f));
-    const int crate = b.add_material(make_material("painted-crate", Rgb(0.55f, 0.18f, 0.08f), 0.0f, 0.5f));
+    const int marble =
+        b.add_material(make_material("marble", Rgb(0.85f, 0.85f, 0.82f), 0.0f, 0.25f));
+    const int crate =
+        b.add_material(make_material("painted-crate", Rgb(0.55f, 0.18f, 0.08f), 0.0f, 0.5f));
     const int gold = b.add_material(make_material("gold", Rgb(1.0f, 0.78f, 0.34f), 1.0f, 0.3f));
     const int mirror = b.add_material(make_material("mirror", Rgb(0.95f), 1.0f, 0.0f));
     Material glass = make_material("green-glass", Rgb(1.0f), 0.0f, 0.0f);
@@ -89,10 +98,16 @@ SceneModel make_default_scene() {
 
     add_room(b, wall, floor);
     const Mat4 id(1.0f);
-    b.add_instance(b.add_mesh(make_quad({-1.5f, 2.999f, -4}, {0.75f, 0, 0}, {0, 0, 0.75f}, big_light)), id, -1, "big-light");
-    b.add_instance(b.add_mesh(make_quad({1.8f, 2.999f, -6.5f}, {0.2f, 0, 0}, {0, 0, 0.2f}, small_light)), id, -1, "small-light");
-    b.add_instance(b.add_mesh(make_sphere(0.04f, 8, 16, lamp)), at({-3.0f, 1.05f, -6.8f}), -1, "lamp");
-    b.add_instance(b.add_mesh(make_quad({-3.98f, 1.5f, -3.0f}, {0, 0.9f, 0}, {0, 0, 1.2f}, mirror)), id, -1, "mirror");
+    b.add_instance(
+        b.add_mesh(make_quad({-1.5f, 2.999f, -4}, {0.75f, 0, 0}, {0, 0, 0.75f}, big_light)), id, -1,
+        "big-light");
+    b.add_instance(
+        b.add_mesh(make_quad({1.8f, 2.999f, -6.5f}, {0.2f, 0, 0}, {0, 0, 0.2f}, small_light)), id,
+        -1, "small-light");
+    b.add_instance(b.add_mesh(make_sphere(0.04f, 8, 16, lamp)), at({-3.0f, 1.05f, -6.8f}), -1,
+                   "lamp");
+    b.add_instance(b.add_mesh(make_quad({-3.98f, 1.5f, -3.0f}, {0, 0.9f, 0}, {0, 0, 1.2f}, mirror)),
+                   id, -1, "mirror");
 
     const int pillar = b.add_mesh(make_cylinder(0.25f, 3.0f, 32, marble));
     for (Vec3 p : {Vec3(-2.5f, 0, -2), Vec3(2.5f, 0, -2), Vec3(-2.5f, 0, -6), Vec3(2.5f, 0, -6)})
@@ -105,7 +120,8 @@ SceneModel make_default_scene() {
     const int ball = b.add_mesh(make_sphere(0.35f, 32, 64, gold));
     b.add_instance(ball, at({0.6f, 0.35f, -4.2f}), -1, "gold-ball");
     b.add_instance(ball, at({2.6f, 0.35f, -4.6f}), -1, "gold-ball");
-    b.add_instance(b.add_mesh(make_sphere(0.45f, 32, 64, glass_mat)), at({-0.4f, 0.45f, -2.8f}), -1, "glass-ball");
+    b.add_instance(b.add_mesh(make_sphere(0.45f, 32, 64, glass_mat)), at({-0.4f, 0.45f, -2.8f}), -1,
+                   "glass-ball");
 
     Camera cam;
     cam.name = "default-camera";
@@ -122,7 +138,8 @@ std::vector<std::string> builtin_scene_names() { return {"cornell", "default"}; 
 Result<SceneModel> make_builtin_scene(const std::string& name) {
     if (name == "cornell") return make_cornell_box();
     if (name == "default") return make_default_scene();
-    return make_error(ErrorCode::not_found, "builtin:{}: no such built-in scene (known: cornell, default)", name);
+    return make_error(ErrorCode::not_found,
+                      "builtin:{}: no such built-in scene (known: cornell, default)", name);
 }
 
 }  // namespace pathfarm

@@ -17,7 +17,8 @@ Result<std::string> read_file_maybe_gzip(const std::string& path) {
             int code = 0;
             std::string what = gzerror(file, &code);
             gzclose(file);
-            return make_error(ErrorCode::parse_error, "{}: corrupt compressed data ({})", path, what);
+            return make_error(ErrorCode::parse_error, "{}: corrupt compressed data ({})", path,
+                              what);
         }
         if (n == 0) break;
         data.append(chunk, std::size_t(n));
@@ -27,7 +28,8 @@ Result<std::string> read_file_maybe_gzip(const std::string& path) {
     if (code != Z_OK && code != Z_STREAM_END) {
         std::string message = what;
         gzclose(file);
-        return make_error(ErrorCode::parse_error, "{}: truncated or corrupt gzip data ({})", path, message);
+        return make_error(ErrorCode::parse_error, "{}: truncated or corrupt gzip data ({})", path,
+                          message);
     }
     gzclose(file);
     return data;

@@ -3,10 +3,10 @@
 // OpenImageIO; one that cannot be decoded (e.g. KTX2) costs that texture with a warning.
 #include <filesystem>
 
-#include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <spdlog/spdlog.h>
 #include <tiny_gltf.h>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "common/film/image_io.h"
 #include "common/math/transform.h"
@@ -34,8 +34,9 @@ bool decode_image(tinygltf::Image* image, const int index, std::string*, std::st
     auto* ctx = static_cast<ImageLoadContext*>(user);
     auto decoded = decode_rgba8(bytes, std::size_t(size), image_name_hint(*image));
     if (!decoded) {
-        ctx->warnings.push_back(fmt::format("{}: image {} \"{}\": not decoded ({}); its texture is ignored",
-                                            ctx->path, index, image->uri, decoded.error().message));
+        ctx->warnings.push_back(
+            fmt::format("{}: image {} \"{}\": not decoded ({}); its texture is ignored", ctx->path,
+                        index, image->uri, decoded.error().message));
         image->width = image->height = 0;
         return true;  // the scene still loads
     }
@@ -71,7 +72,8 @@ TextureRef texture_ref(int index, int texcoord) { return TextureRef{index, texco
 
 class GltfImporter {
 public:
-    GltfImporter(const tinygltf::Model& model, std::string path) : gltf_(model), path_(std::move(path)) {}
+    GltfImporter(const tinygltf::Model& model, std::string path)
+        : gltf_(model), path_(std::move(path)) {}
     Result<SceneModel> run();
 
 private:
@@ -94,22 +96,26 @@ void GltfImporter::import_images_and_textures() {
     for (const tinygltf::Image& img : gltf_.images) {
         Image image;
         image.name = img.name.empty() ? img.uri : img.name;
-        if (img.width > 0 && img.height > 0 && img.image.size() == std::size_t(img.width) * img.height * 4) {
+        if (img.width > 0 && img.height > 0 &&
+            img.image.size() == std::size_t(img.width) * img.height * 4) {
             image.width = img.width;
             image.height = img.height;
             image.rgba = img.image;
         } else if (img.image.empty() && img.width != 0) {
-            spdlog::warn("{}: image \"{}\" could not be loaded; its texture is ignored", path_, img.uri);
+            spdlog::warn("{}: image \"{}\" could not be loaded; its texture is ignored", path_,
+                         img.uri);
         }
         scene_.images.push_back(std::move(image));
     }
     for (const tinygltf::Texture& tex : gltf_.textures) {
         Texture t;
-        const bool valid = tex.source >= 0 && tex.source < int(scene_.images.size()) && scene_.images[tex.source].width > 0;
+        const bool valid = tex.source >= 0 && tex.source < int(scene_.images.size()) &&
+                           scene_.images[tex.source].width > 0;
         t.image = valid ? tex.source : -1;
         if (tex.sampler >= 0 && tex.sampler < int(gltf_.samplers.size())) {
             const tinygltf::Sampler& s = gltf_.samplers[tex.sampler];
-            t.sampler.filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? FilterMode::nearest : FilterMode::linear;
+            t.sampler.filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? FilterMode::nearest
+                                                                              : FilterMode::linear;
             const auto wrap = [](int w) {
                 if (w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return WrapMode::clamp_to_edge;
                 if (w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return WrapMode::mirrored_repeat;
@@ -127,21 +133,26 @@ void GltfImporter::import_materials() {
         Material m;
         m.name = gm.name;
         const auto& pbr = gm.pbrMetallicRoughness;
-        for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c) m.base_color_factor[c] = float(pbr.baseColorFactor[c]);
-        m.base_color_texture = texture_ref(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord);
+        for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c)
+            m.base_color_factor[c] = float(pbr.baseColorFactor[c]);
+        m.base_color_texture =
+            texture_ref(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord);
         m.metallic_factor = float(pbr.metallicFactor);
         m.roughness_factor = float(pbr.roughnessFactor);
-        m.metallic_roughness_texture = texture_ref(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord);
+        m.metallic_roughness_texture =
+            texture_ref(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord);
         m.normal_texture = texture_ref(gm.normalTexture.index, gm.normalTexture.texCoord);
         m.normal_scale = float(gm.normalTexture.scale);
-        for (int c = 0; c < 3 && c < int(gm.emissiveFactor.size()); ++c) m.emissive_factor[c] = float(gm.emissiveFactor[c]);
+        for (int c = 0; c < 3 && c < int(gm.emissiveFactor.size()); ++c)
+            m.emissive_factor[c] = float(gm.emissiveFactor[c]);
         m.emissive_texture = texture_ref(gm.emissiveTexture.index, gm.emissiveTexture.texCoord);
         m.double_sided = gm.doubleSided;
         if (const auto* e = extension(gm.extensions, "KHR_materials_emissive_strength"))
             m.emissive_strength = number(*e, "emissiveStrength", 1.0f);
         if (const auto* e = extension(gm.extensions, "KHR_materials_transmission"))
             m.transmission_factor = number(*e, "transmissionFactor", 0.0f);
-        if (const auto* e = extension(gm.extensions, "KHR_materials_ior")) m.ior = number(*e, "ior", 1.5f);
+        if (const auto* e = extension(gm.extensions, "KHR_materials_ior"))
+            m.ior = number(*e, "ior", 1.5f);
         if (const auto* e = extension(gm.extensions, "KHR_materials_specular")) {
             m.specular_factor = number(*e, "specularFactor", 1.0f);
             m.specular_color_factor = rgb_value(*e, "specularColorFactor", Rgb(1.0f));
@@ -154,7 +165,8 @@ void GltfImporter::import_materials() {
     }
 }
 
-Status GltfImporter::import_primitive(const tinygltf::Primitive& prim, const std::string& name, Mesh& mesh) {
+Status GltfImporter::import_primitive(const tinygltf::Primitive& prim, const std::string& name,
+                                      Mesh& mesh) {
     const auto attr = [&](const char* key) {
         const auto it = prim.attributes.find(key);
         return it == prim.attributes.end() ? -1 : it->second;
@@ -162,40 +174,54 @@ Status GltfImporter::import_primitive(const tinygltf::Primitive& prim, const std
     std::vector<float> data;
     int comps = 0;
     if (Status s = read_accessor_floats(gltf_, attr("POSITION"), data, comps); !s || comps != 3)
-        return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": POSITION: {}", path_, name, s ? "not a VEC3" : s.error().message);
-    for (std::size_t i = 0; i + 2 < data.size(); i += 3) mesh.positions.emplace_back(data[i], data[i + 1], data[i + 2]);
+        return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": POSITION: {}", path_, name,
+                          s ? "not a VEC3" : s.error().message);
+    for (std::size_t i = 0; i + 2 < data.size(); i += 3)
+        mesh.positions.emplace_back(data[i], data[i + 1], data[i + 2]);
     if (attr("NORMAL") >= 0) {
         if (Status s = read_accessor_floats(gltf_, attr("NORMAL"), data, comps); !s || comps != 3)
-            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": NORMAL: {}", path_, name, s ? "not a VEC3" : s.error().message);
-        for (std::size_t i = 0; i + 2 < data.size(); i += 3) mesh.normals.emplace_back(data[i], data[i + 1], data[i + 2]);
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": NORMAL: {}", path_, name,
+                              s ? "not a VEC3" : s.error().message);
+        for (std::size_t i = 0; i + 2 < data.size(); i += 3)
+            mesh.normals.emplace_back(data[i], data[i + 1], data[i + 2]);
     }
     if (attr("TEXCOORD_0") >= 0) {
-        if (Status s = read_accessor_floats(gltf_, attr("TEXCOORD_0"), data, comps); !s || comps != 2)
-            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": TEXCOORD_0: {}", path_, name, s ? "not a VEC2" : s.error().message);
-        for (std::size_t i = 0; i + 1 < data.size(); i += 2) mesh.uvs.emplace_back(data[i], data[i + 1]);
+        if (Status s = read_accessor_floats(gltf_, attr("TEXCOORD_0"), data, comps);
+            !s || comps != 2)
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": TEXCOORD_0: {}", path_,
+                              name, s ? "not a VEC2" : s.error().message);
+        for (std::size_t i = 0; i + 1 < data.size(); i += 2)
+            mesh.uvs.emplace_back(data[i], data[i + 1]);
     }
     if (attr("TANGENT") >= 0) {
         if (Status s = read_accessor_floats(gltf_, attr("TANGENT"), data, comps); !s || comps != 4)
-            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": TANGENT: {}", path_, name, s ? "not a VEC4" : s.error().message);
-        for (std::size_t i = 0; i + 3 < data.size(); i += 4) mesh.tangents.emplace_back(data[i], data[i + 1], data[i + 2], data[i + 3]);
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": TANGENT: {}", path_, name,
+                              s ? "not a VEC4" : s.error().message);
+        for (std::size_t i = 0; i + 3 < data.size(); i += 4)
+            mesh.tangents.emplace_back(data[i], data[i + 1], data[i + 2], data[i + 3]);
     }
     std::vector<uint32_t> idx;
     if (prim.indices >= 0) {
         if (Status s = read_accessor_uints(gltf_, prim.indices, idx); !s)
-            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": indices: {}", path_, name, s.error().message);
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": indices: {}", path_, name,
+                              s.error().message);
     } else {
         idx.resize(mesh.positions.size());
-        for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+        for (uint32_t i = 0; i < idx.size(); ++i)
+            idx[i] = i;
     }
     if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
         mesh.indices = std::move(idx);
         mesh.indices.resize(mesh.indices.size() / 3 * 3);
     } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         for (std::size_t i = 2; i < idx.size(); ++i)
-            mesh.indices.insert(mesh.indices.end(), i % 2 ? std::initializer_list<uint32_t>{idx[i - 1], idx[i - 2], idx[i]}
-                                                          : std::initializer_list<uint32_t>{idx[i - 2], idx[i - 1], idx[i]});
+            mesh.indices.insert(
+                mesh.indices.end(),
+                i % 2 ? std::initializer_list<uint32_t>{idx[i - 1], idx[i - 2], idx[i]}
+                      : std::initializer_list<uint32_t>{idx[i - 2], idx[i - 1], idx[i]});
     } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-        for (std::size_t i = 2; i < idx.size(); ++i) mesh.indices.insert(mesh.indices.end(), {idx[0], idx[i - 1], idx[i]});
+        for (std::size_t i = 2; i < idx.size(); ++i)
+            mesh.indices.insert(mesh.indices.end(), {idx[0], idx[i - 1], idx[i]});
     }
     return {};
 }
@@ -207,8 +233,10 @@ Status GltfImporter::import_meshes() {
         for (std::size_t pi = 0; pi < gm.primitives.size(); ++pi) {
             const tinygltf::Primitive& prim = gm.primitives[pi];
             const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-                spdlog::warn("{}: mesh {} \"{}\" primitive {}: points/lines are not rendered", path_, mi, gm.name, pi);
+            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+                mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+                spdlog::warn("{}: mesh {} \"{}\" primitive {}: points/lines are not rendered",
+                             path_, mi, gm.name, pi);
                 continue;
             }
             Mesh mesh;
@@ -225,7 +253,8 @@ Status GltfImporter::import_meshes() {
                 }
                 mesh.material = default_material_;
             }
-            if (scene_.materials[mesh.material].normal_texture.valid() && !mesh.has_tangents() && mesh.has_normals())
+            if (scene_.materials[mesh.material].normal_texture.valid() && !mesh.has_tangents() &&
+                mesh.has_normals())
                 compute_tangents(mesh);
             mesh_map_[mi].push_back(int(scene_.meshes.size()));
             scene_.meshes.push_back(std::move(mesh));
@@ -237,22 +266,27 @@ Status GltfImporter::import_meshes() {
 Mat4 GltfImporter::node_local(const tinygltf::Node& node) const {
     if (node.matrix.size() == 16) {
         Mat4 m;
-        for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(node.matrix[i]);
+        for (int i = 0; i < 16; ++i)
+            glm::value_ptr(m)[i] = float(node.matrix[i]);
         return m;
     }
     Vec3 t(0.0f), s(1.0f);
     glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
-    if (node.translation.size() == 3) t = Vec3(node.translation[0], node.translation[1], node.translation[2]);
+    if (node.translation.size() == 3)
+        t = Vec3(node.translation[0], node.translation[1], node.translation[2]);
     if (node.scale.size() == 3) s = Vec3(node.scale[0], node.scale[1], node.scale[2]);
     if (node.rotation.size() == 4)  // glTF stores x, y, z, w; glm::quat's constructor takes w first
-        r = glm::normalize(glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2])));
+        r = glm::normalize(glm::quat(float(node.rotation[3]), float(node.rotation[0]),
+                                     float(node.rotation[1]), float(node.rotation[2])));
     return compose_trs(t, r, s);
 }
 
 Status GltfImporter::add_node(int gltf_node, int parent, int depth) {
     if (gltf_node < 0 || gltf_node >= int(gltf_.nodes.size()))
         return make_error(ErrorCode::parse_error, "{}: node {} out of range", path_, gltf_node);
-    if (depth > 256) return make_error(ErrorCode::parse_error, "{}: node hierarchy deeper than 256 (a cycle?)", path_);
+    if (depth > 256)
+        return make_error(ErrorCode::parse_error, "{}: node hierarchy deeper than 256 (a cycle?)",
+                          path_);
     const tinygltf::Node& gn = gltf_.nodes[gltf_node];
     Node node;
     node.name = gn.name;
@@ -263,8 +297,11 @@ Status GltfImporter::add_node(int gltf_node, int parent, int depth) {
         const tinygltf::Camera& gc = gltf_.cameras[gn.camera];
         Camera cam;
         cam.name = gc.name.empty() ? gn.name : gc.name;
-        if (gc.type == "perspective" && gc.perspective.yfov > 0.0) cam.yfov_radians = float(gc.perspective.yfov);
-        else spdlog::warn("{}: camera {} is not perspective; rendered as a 45 degree pinhole", path_, gn.camera);
+        if (gc.type == "perspective" && gc.perspective.yfov > 0.0)
+            cam.yfov_radians = float(gc.perspective.yfov);
+        else
+            spdlog::warn("{}: camera {} is not perspective; rendered as a 45 degree pinhole", path_,
+                         gn.camera);
         scene_.cameras.push_back(cam);
         node.camera = int(scene_.cameras.size()) - 1;
     }
@@ -324,7 +361,8 @@ Result<SceneModel> load_gltf(const std::string& path) {
     } catch (const std::exception& e) {  // nlohmann::json inside tinygltf may throw
         return make_error(ErrorCode::parse_error, "{}: {}", path, e.what());
     }
-    for (const std::string& w : ctx.warnings) spdlog::warn("{}", w);
+    for (const std::string& w : ctx.warnings)
+        spdlog::warn("{}", w);
     if (!ok) return make_error(ErrorCode::parse_error, "{}: {}", path, first_line(err));
     if (!warn.empty()) spdlog::warn("{}: {}", path, first_line(warn));
     return GltfImporter(model, path).run();

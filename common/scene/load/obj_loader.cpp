@@ -20,7 +20,8 @@ struct VertexKey {
 };
 struct VertexKeyHash {
     std::size_t operator()(const VertexKey& k) const {
-        return std::hash<uint64_t>()((uint64_t(uint32_t(k.v)) << 32) ^ (uint64_t(uint32_t(k.n)) << 16) ^ uint32_t(k.t));
+        return std::hash<uint64_t>()((uint64_t(uint32_t(k.v)) << 32) ^
+                                     (uint64_t(uint32_t(k.n)) << 16) ^ uint32_t(k.t));
     }
 };
 
@@ -32,7 +33,8 @@ float roughness_from_shininess(float ns) {
 
 class ObjImporter {
 public:
-    ObjImporter(std::string path) : path_(std::move(path)), dir_(std::filesystem::path(path_).parent_path().string()) {}
+    ObjImporter(std::string path)
+        : path_(std::move(path)), dir_(std::filesystem::path(path_).parent_path().string()) {}
     Result<SceneModel> run(const std::string& text);
 
 private:
@@ -47,13 +49,15 @@ private:
 
 TextureRef ObjImporter::load_texture(const std::string& name) {
     if (name.empty()) return {};
-    if (const auto it = texture_cache_.find(name); it != texture_cache_.end()) return {it->second, 0};
+    if (const auto it = texture_cache_.find(name); it != texture_cache_.end())
+        return {it->second, 0};
     std::string file = name;
     std::replace(file.begin(), file.end(), '\\', '/');
     auto image = read_rgba8((std::filesystem::path(dir_) / file).string());
     int texture = -1;
     if (!image) {
-        spdlog::warn("{}: texture \"{}\" not loaded ({}); ignored", path_, name, image.error().message);
+        spdlog::warn("{}: texture \"{}\" not loaded ({}); ignored", path_, name,
+                     image.error().message);
     } else {
         scene_.images.push_back(Image{name, image->width, image->height, std::move(image->rgba)});
         scene_.textures.push_back(Texture{int(scene_.images.size()) - 1, Sampler{}});
@@ -88,7 +92,8 @@ Material ObjImporter::convert_material(const tinyobj::material_t& om) {
     return m;
 }
 
-void ObjImporter::build_meshes(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes) {
+void ObjImporter::build_meshes(const tinyobj::attrib_t& attrib,
+                               const std::vector<tinyobj::shape_t>& shapes) {
     std::vector<Mesh> meshes(scene_.materials.size());
     std::vector<std::unordered_map<VertexKey, uint32_t, VertexKeyHash>> maps(meshes.size());
     const bool have_normals = !attrib.normals.empty();
@@ -101,19 +106,26 @@ void ObjImporter::build_meshes(const tinyobj::attrib_t& attrib, const std::vecto
             Mesh& mesh = meshes[mat];
             for (int k = 0; k < 3; ++k) {
                 const tinyobj::index_t& ix = idx[3 * f + k];
-                const VertexKey key{ix.vertex_index, have_normals ? ix.normal_index : -1, have_uvs ? ix.texcoord_index : -1};
+                const VertexKey key{ix.vertex_index, have_normals ? ix.normal_index : -1,
+                                    have_uvs ? ix.texcoord_index : -1};
                 auto [it, inserted] = maps[mat].try_emplace(key, uint32_t(mesh.positions.size()));
                 if (inserted) {
                     const auto v = std::size_t(std::max(key.v, 0));
-                    mesh.positions.emplace_back(attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]);
+                    mesh.positions.emplace_back(attrib.vertices[3 * v], attrib.vertices[3 * v + 1],
+                                                attrib.vertices[3 * v + 2]);
                     if (have_normals) {
                         const auto n = std::size_t(std::max(key.n, 0));
-                        mesh.normals.push_back(key.n >= 0 ? Vec3(attrib.normals[3 * n], attrib.normals[3 * n + 1], attrib.normals[3 * n + 2]) : Vec3(0.0f));
+                        mesh.normals.push_back(key.n >= 0 ? Vec3(attrib.normals[3 * n],
+                                                                 attrib.normals[3 * n + 1],
+                                                                 attrib.normals[3 * n + 2])
+                                                          : Vec3(0.0f));
                     }
                     if (have_uvs) {
                         const auto t = std::size_t(std::max(key.t, 0));
                         // OBJ's v runs upwards; glTF's (ours) downwards from the image's top row.
-                        mesh.uvs.push_back(key.t >= 0 ? Vec2(attrib.texcoords[2 * t], 1.0f - attrib.texcoords[2 * t + 1]) : Vec2(0.0f));
+                        mesh.uvs.push_back(key.t >= 0 ? Vec2(attrib.texcoords[2 * t],
+                                                             1.0f - attrib.texcoords[2 * t + 1])
+                                                      : Vec2(0.0f));
                     }
                 }
                 mesh.indices.push_back(it->second);
@@ -141,11 +153,13 @@ Result<SceneModel> ObjImporter::run(const std::string& text) {
     std::vector<tinyobj::material_t> materials;
     std::string warn, err;
     if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream, &mtl_reader, true))
-        return make_error(ErrorCode::parse_error, "{}: {}", path_, err.empty() ? "not a valid OBJ file" : err.substr(0, err.find('\n')));
+        return make_error(ErrorCode::parse_error, "{}: {}", path_,
+                          err.empty() ? "not a valid OBJ file" : err.substr(0, err.find('\n')));
     if (!warn.empty()) spdlog::warn("{}: {}", path_, warn.substr(0, warn.find('\n')));
     if (attrib.vertices.empty() || shapes.empty())
         return make_error(ErrorCode::parse_error, "{}: no geometry (not an OBJ file?)", path_);
-    for (const auto& m : materials) scene_.materials.push_back(convert_material(m));
+    for (const auto& m : materials)
+        scene_.materials.push_back(convert_material(m));
     Material fallback;  // for faces without usemtl
     fallback.name = "obj-default";
     fallback.metallic_factor = 0.0f;
@@ -153,10 +167,15 @@ Result<SceneModel> ObjImporter::run(const std::string& text) {
     scene_.materials.push_back(std::move(fallback));
     for (const auto& shape : shapes)
         for (const auto& ix : shape.mesh.indices)
-            if (ix.vertex_index < 0 || std::size_t(ix.vertex_index) * 3 + 2 >= attrib.vertices.size() ||
-                (ix.normal_index >= 0 && std::size_t(ix.normal_index) * 3 + 2 >= attrib.normals.size()) ||
-                (ix.texcoord_index >= 0 && std::size_t(ix.texcoord_index) * 2 + 1 >= attrib.texcoords.size()))
-                return make_error(ErrorCode::parse_error, "{}: shape \"{}\": face refers to a missing vertex, normal or UV", path_, shape.name);
+            if (ix.vertex_index < 0 ||
+                std::size_t(ix.vertex_index) * 3 + 2 >= attrib.vertices.size() ||
+                (ix.normal_index >= 0 &&
+                 std::size_t(ix.normal_index) * 3 + 2 >= attrib.normals.size()) ||
+                (ix.texcoord_index >= 0 &&
+                 std::size_t(ix.texcoord_index) * 2 + 1 >= attrib.texcoords.size()))
+                return make_error(ErrorCode::parse_error,
+                                  "{}: shape \"{}\": face refers to a missing vertex, normal or UV",
+                                  path_, shape.name);
     build_meshes(attrib, shapes);
     scene_.name = path_;
     flatten_nodes(scene_);

@@ -31,7 +31,9 @@ struct PlyElement {
 int type_size(const std::string& t) {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
     if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
+        t == "float32")
+        return 4;
     if (t == "double" || t == "float64") return 8;
     return 0;
 }
@@ -45,7 +47,9 @@ private:
     Status parse_header();
     bool read_value(const std::string& type, double& out);
     Status read_element(const PlyElement& e, Mesh& mesh);
-    Error error(const std::string& what) const { return make_error(ErrorCode::parse_error, "{}: {}", path_, what); }
+    Error error(const std::string& what) const {
+        return make_error(ErrorCode::parse_error, "{}: {}", path_, what);
+    }
 
     std::string path_;
     const std::string& data_;
@@ -56,7 +60,8 @@ private:
 
 Status PlyReader::parse_header() {
     const std::size_t end = data_.find("end_header");
-    if (data_.rfind("ply", 0) != 0 || end == std::string::npos) return error("not a PLY file (missing 'ply' or 'end_header')");
+    if (data_.rfind("ply", 0) != 0 || end == std::string::npos)
+        return error("not a PLY file (missing 'ply' or 'end_header')");
     std::istringstream header(data_.substr(0, end));
     std::string line;
     while (std::getline(header, line)) {
@@ -66,10 +71,14 @@ Status PlyReader::parse_header() {
         if (word == "format") {
             std::string f;
             ls >> f;
-            if (f == "ascii") format_ = PlyFormat::ascii;
-            else if (f == "binary_little_endian") format_ = PlyFormat::binary_le;
-            else if (f == "binary_big_endian") format_ = PlyFormat::binary_be;
-            else return error("unknown format '" + f + "'");
+            if (f == "ascii")
+                format_ = PlyFormat::ascii;
+            else if (f == "binary_little_endian")
+                format_ = PlyFormat::binary_le;
+            else if (f == "binary_big_endian")
+                format_ = PlyFormat::binary_be;
+            else
+                return error("unknown format '" + f + "'");
         } else if (word == "element") {
             PlyElement e;
             ls >> e.name >> e.count;
@@ -80,12 +89,14 @@ Status PlyReader::parse_header() {
             PlyProperty p;
             std::string t;
             ls >> t;
-            if (t == "list") ls >> p.count_type >> p.type >> p.name;
+            if (t == "list")
+                ls >> p.count_type >> p.type >> p.name;
             else {
                 p.type = t;
                 ls >> p.name;
             }
-            if (ls.fail() || type_size(p.type) == 0 || (!p.count_type.empty() && type_size(p.count_type) == 0))
+            if (ls.fail() || type_size(p.type) == 0 ||
+                (!p.count_type.empty() && type_size(p.count_type) == 0))
                 return error("malformed property line '" + line + "'");
             elements_.back().properties.push_back(std::move(p));
         }
@@ -97,7 +108,8 @@ Status PlyReader::parse_header() {
 
 bool PlyReader::read_value(const std::string& type, double& out) {
     if (format_ == PlyFormat::ascii) {
-        while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
+        while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_])))
+            ++pos_;
         if (pos_ >= data_.size()) return false;
         const char* begin = data_.data() + pos_;
         const auto [ptr, ec] = std::from_chars(begin, data_.data() + data_.size(), out);
@@ -110,15 +122,37 @@ bool PlyReader::read_value(const std::string& type, double& out) {
     unsigned char b[8];
     std::memcpy(b, data_.data() + pos_, size);
     pos_ += size;
-    if ((format_ == PlyFormat::binary_be) == (std::endian::native == std::endian::little)) std::reverse(b, b + size);
-    if (type == "char" || type == "int8") out = static_cast<int8_t>(b[0]);
-    else if (type == "uchar" || type == "uint8") out = b[0];
-    else if (type == "short" || type == "int16") { int16_t v; std::memcpy(&v, b, 2); out = v; }
-    else if (type == "ushort" || type == "uint16") { uint16_t v; std::memcpy(&v, b, 2); out = v; }
-    else if (type == "int" || type == "int32") { int32_t v; std::memcpy(&v, b, 4); out = v; }
-    else if (type == "uint" || type == "uint32") { uint32_t v; std::memcpy(&v, b, 4); out = v; }
-    else if (type == "float" || type == "float32") { float v; std::memcpy(&v, b, 4); out = v; }
-    else { double v; std::memcpy(&v, b, 8); out = v; }
+    if ((format_ == PlyFormat::binary_be) == (std::endian::native == std::endian::little))
+        std::reverse(b, b + size);
+    if (type == "char" || type == "int8")
+        out = static_cast<int8_t>(b[0]);
+    else if (type == "uchar" || type == "uint8")
+        out = b[0];
+    else if (type == "short" || type == "int16") {
+        int16_t v;
+        std::memcpy(&v, b, 2);
+        out = v;
+    } else if (type == "ushort" || type == "uint16") {
+        uint16_t v;
+        std::memcpy(&v, b, 2);
+        out = v;
+    } else if (type == "int" || type == "int32") {
+        int32_t v;
+        std::memcpy(&v, b, 4);
+        out = v;
+    } else if (type == "uint" || type == "uint32") {
+        uint32_t v;
+        std::memcpy(&v, b, 4);
+        out = v;
+    } else if (type == "float" || type == "float32") {
+        float v;
+        std::memcpy(&v, b, 4);
+        out = v;
+    } else {
+        double v;
+        std::memcpy(&v, b, 8);
+        out = v;
+    }
     return true;
 }
 
@@ -132,22 +166,40 @@ Status PlyReader::read_element(const PlyElement& e, Mesh& mesh) {
         for (const PlyProperty& prop : e.properties) {
             double v = 0.0;
             if (prop.count_type.empty()) {
-                if (!read_value(prop.type, v)) return error(fmt::format("element '{}' {} of {}: unexpected end of data (truncated file?)", e.name, i, e.count));
-                const int axis = prop.name == "x" ? 0 : prop.name == "y" ? 1 : prop.name == "z" ? 2 : -1;
-                const int naxis = prop.name == "nx" ? 0 : prop.name == "ny" ? 1 : prop.name == "nz" ? 2 : -1;
+                if (!read_value(prop.type, v))
+                    return error(fmt::format(
+                        "element '{}' {} of {}: unexpected end of data (truncated file?)", e.name,
+                        i, e.count));
+                const int axis = prop.name == "x"   ? 0
+                                 : prop.name == "y" ? 1
+                                 : prop.name == "z" ? 2
+                                                    : -1;
+                const int naxis = prop.name == "nx"   ? 0
+                                  : prop.name == "ny" ? 1
+                                  : prop.name == "nz" ? 2
+                                                      : -1;
                 if (axis >= 0) p[axis] = float(v);
-                if (naxis >= 0) { n[naxis] = float(v); has_n = true; }
+                if (naxis >= 0) {
+                    n[naxis] = float(v);
+                    has_n = true;
+                }
                 continue;
             }
             double count = 0.0;
             if (!read_value(prop.count_type, count) || count < 0.0 || count > 1e6)
-                return error(fmt::format("element '{}' {}: bad list length (truncated file?)", e.name, i));
+                return error(
+                    fmt::format("element '{}' {}: bad list length (truncated file?)", e.name, i));
             values.resize(std::size_t(count));
             for (double& x : values)
-                if (!read_value(prop.type, x)) return error(fmt::format("element '{}' {} of {}: unexpected end of data (truncated file?)", e.name, i, e.count));
+                if (!read_value(prop.type, x))
+                    return error(fmt::format(
+                        "element '{}' {} of {}: unexpected end of data (truncated file?)", e.name,
+                        i, e.count));
             if (is_face && (prop.name == "vertex_indices" || prop.name == "vertex_index"))
                 for (std::size_t k = 2; k < values.size(); ++k)  // fan-triangulate polygons
-                    mesh.indices.insert(mesh.indices.end(), {uint32_t(values[0]), uint32_t(values[k - 1]), uint32_t(values[k])});
+                    mesh.indices.insert(
+                        mesh.indices.end(),
+                        {uint32_t(values[0]), uint32_t(values[k - 1]), uint32_t(values[k])});
         }
         if (is_vertex) {
             mesh.positions.push_back(p);
@@ -165,7 +217,9 @@ Result<SceneModel> PlyReader::run() {
         if (Status s = read_element(e, mesh); !s) return s.error();
     if (mesh.positions.empty()) return error("no vertex element");
     for (uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size()) return error(fmt::format("face index {} out of range ({} vertices)", i, mesh.positions.size()));
+        if (i >= mesh.positions.size())
+            return error(
+                fmt::format("face index {} out of range ({} vertices)", i, mesh.positions.size()));
     SceneModel scene;
     scene.name = path_;
     Material grey;

@@ -22,7 +22,8 @@ void append_mesh(Mesh& a, const Mesh& b) {
     a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
     a.uvs.insert(a.uvs.end(), b.uvs.begin(), b.uvs.end());
     a.tangents.insert(a.tangents.end(), b.tangents.begin(), b.tangents.end());
-    for (uint32_t i : b.indices) a.indices.push_back(base + i);
+    for (uint32_t i : b.indices)
+        a.indices.push_back(base + i);
 }
 
 Mesh make_unit_cube(int material) {
@@ -49,7 +50,8 @@ Mesh make_sphere(float radius, int rings, int segments, int material) {
         const float theta = kPi * float(r) / float(rings);
         for (int s = 0; s <= segments; ++s) {
             const float phi = 2.0f * kPi * float(s) / float(segments);
-            const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
+            const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                         -std::sin(theta) * std::sin(phi));
             m.positions.push_back(radius * n);
             m.normals.push_back(n);
             m.uvs.emplace_back(float(s) / float(segments), float(r) / float(rings));
@@ -101,8 +103,10 @@ Mesh make_cylinder(float radius, float height, int segments, int material) {
         }
         for (int s = 0; s < segments; ++s) {
             const uint32_t a = centre + 1 + s, b = a + 1;
-            if (y > 0.0f) m.indices.insert(m.indices.end(), {centre, a, b});
-            else m.indices.insert(m.indices.end(), {centre, b, a});
+            if (y > 0.0f)
+                m.indices.insert(m.indices.end(), {centre, a, b});
+            else
+                m.indices.insert(m.indices.end(), {centre, b, a});
         }
     }
     return m;

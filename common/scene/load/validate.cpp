@@ -13,17 +13,27 @@ bool finite_vec(const V& v) {
     return true;
 }
 
-Status check_structure(const SceneModel& scene, const Mesh& mesh, std::size_t m, const std::string& source) {
+Status check_structure(const SceneModel& scene, const Mesh& mesh, std::size_t m,
+                       const std::string& source) {
     const std::size_t n = mesh.positions.size();
-    if ((!mesh.normals.empty() && mesh.normals.size() != n) || (!mesh.uvs.empty() && mesh.uvs.size() != n) ||
+    if ((!mesh.normals.empty() && mesh.normals.size() != n) ||
+        (!mesh.uvs.empty() && mesh.uvs.size() != n) ||
         (!mesh.tangents.empty() && mesh.tangents.size() != n))
-        return make_error(ErrorCode::parse_error, "{}: mesh {} \"{}\": attribute counts differ from {} positions", source, m, mesh.name, n);
+        return make_error(ErrorCode::parse_error,
+                          "{}: mesh {} \"{}\": attribute counts differ from {} positions", source,
+                          m, mesh.name, n);
     if (mesh.indices.size() % 3 != 0)
-        return make_error(ErrorCode::parse_error, "{}: mesh {} \"{}\": {} indices is not a multiple of 3", source, m, mesh.name, mesh.indices.size());
+        return make_error(ErrorCode::parse_error,
+                          "{}: mesh {} \"{}\": {} indices is not a multiple of 3", source, m,
+                          mesh.name, mesh.indices.size());
     for (uint32_t i : mesh.indices)
-        if (i >= n) return make_error(ErrorCode::parse_error, "{}: mesh {} \"{}\": index {} out of range ({} vertices)", source, m, mesh.name, i, n);
+        if (i >= n)
+            return make_error(ErrorCode::parse_error,
+                              "{}: mesh {} \"{}\": index {} out of range ({} vertices)", source, m,
+                              mesh.name, i, n);
     if (mesh.material < 0 || mesh.material >= int(scene.materials.size()))
-        return make_error(ErrorCode::parse_error, "{}: mesh {} \"{}\": material {} out of range", source, m, mesh.name, mesh.material);
+        return make_error(ErrorCode::parse_error, "{}: mesh {} \"{}\": material {} out of range",
+                          source, m, mesh.name, mesh.material);
     return {};
 }
 
@@ -57,12 +67,16 @@ void repair_mesh(Mesh& mesh, std::size_t m, const std::string& source, RepairRep
         }
         kept.insert(kept.end(), {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]});
     }
-    const std::size_t attrs = clear_nonfinite(mesh.normals) + clear_nonfinite(mesh.uvs) + clear_nonfinite(mesh.tangents);
+    const std::size_t attrs =
+        clear_nonfinite(mesh.normals) + clear_nonfinite(mesh.uvs) + clear_nonfinite(mesh.tangents);
     if (nonfinite + degenerate > 0)
-        spdlog::warn("{}: mesh {} \"{}\": dropped {} triangles with NaN/Inf vertices and {} degenerate triangles",
-                     source, m, mesh.name, nonfinite, degenerate);
+        spdlog::warn(
+            "{}: mesh {} \"{}\": dropped {} triangles with NaN/Inf vertices and {} degenerate "
+            "triangles",
+            source, m, mesh.name, nonfinite, degenerate);
     if (attrs > 0)
-        spdlog::warn("{}: mesh {} \"{}\": {} non-finite normals/UVs/tangents replaced by 0", source, m, mesh.name, attrs);
+        spdlog::warn("{}: mesh {} \"{}\": {} non-finite normals/UVs/tangents replaced by 0", source,
+                     m, mesh.name, attrs);
     mesh.indices = std::move(kept);
     report.dropped_nonfinite += nonfinite;
     report.dropped_degenerate += degenerate;
@@ -74,7 +88,8 @@ float clamp_or(float v, float lo, float hi, float fallback) {
 }
 
 void repair_material(Material& m) {
-    for (int c = 0; c < 4; ++c) m.base_color_factor[c] = clamp_or(m.base_color_factor[c], 0.0f, 1.0f, 1.0f);
+    for (int c = 0; c < 4; ++c)
+        m.base_color_factor[c] = clamp_or(m.base_color_factor[c], 0.0f, 1.0f, 1.0f);
     m.metallic_factor = clamp_or(m.metallic_factor, 0.0f, 1.0f, 0.0f);
     m.roughness_factor = clamp_or(m.roughness_factor, 0.0f, 1.0f, 1.0f);
     m.transmission_factor = clamp_or(m.transmission_factor, 0.0f, 1.0f, 0.0f);
@@ -97,17 +112,20 @@ Status validate_and_repair(SceneModel& scene, const std::string& source, RepairR
     RepairReport& r = report ? *report : local;
     for (Texture& t : scene.textures)
         if (t.image >= int(scene.images.size())) t.image = -1;
-    for (Material& m : scene.materials) repair_material(m);
+    for (Material& m : scene.materials)
+        repair_material(m);
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
         if (Status s = check_structure(scene, scene.meshes[m], m, source); !s) return s;
         repair_mesh(scene.meshes[m], m, source, r);
     }
     for (const Instance& inst : scene.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(scene.meshes.size()))
-            return make_error(ErrorCode::parse_error, "{}: instance of missing mesh {}", source, inst.mesh);
+            return make_error(ErrorCode::parse_error, "{}: instance of missing mesh {}", source,
+                              inst.mesh);
         for (int c = 0; c < 4; ++c)
             if (!finite_vec(inst.transform[c]))
-                return make_error(ErrorCode::parse_error, "{}: node {}: non-finite transform", source, inst.node);
+                return make_error(ErrorCode::parse_error, "{}: node {}: non-finite transform",
+                                  source, inst.node);
     }
     return {};
 }

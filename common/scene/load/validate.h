@@ -19,6 +19,7 @@ struct RepairReport {
 // or texture reference out of range. Repairs: drops NaN/Inf and zero-area triangles, clears
 // non-finite attributes, clamps material factors into their valid ranges. Each repair logs
 // one warning per mesh naming `source`, the mesh and the count.
-Status validate_and_repair(SceneModel& scene, const std::string& source, RepairReport* report = nullptr);
+Status validate_and_repair(SceneModel& scene, const std::string& source,
+                           RepairReport* report = nullptr);
 
 }  // namespace pathfarm

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The whole test suite: install what is missing, build with warnings as errors, run every test
+# (format, layering, unit, render, integration), then the unit tests of the pure libraries again
+# under AddressSanitizer + UndefinedBehaviorSanitizer.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+jobs="$(nproc)"
+"$root/scripts/install_deps.sh"
+
+echo "== build (Release, -Werror)"
+"$root/scripts/build.sh" "$root/build/ci" -DPATHFARM_WERROR=ON -DPATHFARM_BUILD_TESTS=ON
+echo "== tests"
+ctest --test-dir "$root/build/ci" -j "$jobs" --output-on-failure --timeout 120
+
+echo "== pure libraries under ASan + UBSan"
+TARGETS=pathfarm_unit_tests "$root/scripts/build.sh" "$root/build/asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHFARM_SANITIZE=ON \
+  -DPATHFARM_WITH_EMBREE=OFF -DPATHFARM_WITH_OPENCL=OFF -DPATHFARM_WERROR=ON
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir "$root/build/asan" -j "$jobs" -L pure --output-on-failure --timeout 300

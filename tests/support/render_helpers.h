@@ -1,0 +1,52 @@
+// Rendering helpers for tests: scenes with analytic answers and one-call renders through the
+// Embree backend.
+#pragma once
+
+#include <vector>
+
+#include "common/film/film.h"
+#include "common/render/path_tracer.h"
+#include "common/scene/scene_model.h"
+
+namespace pathfarm::test {
+
+struct RenderRequest {
+    int width = 32;
+    int height = 32;
+    int spp = 16;
+    uint32_t seed = 0;
+    uint32_t frame = 0;
+    int threads = 2;
+    IntegratorSettings integrator;
+    std::vector<int> row_splits;  // render [0,s0), [s0,s1), ... [sN,height) separately
+};
+
+// Renders with the Embree backend; fails the test (and returns an empty image) on error.
+FloatImage render(const SceneModel& scene, const RenderRequest& request);
+
+// Every surface emits `emission` and reflects with Lambert albedo `albedo`: a sphere inside
+// a spherical enclosure. Every pixel converges to emission / (1 - albedo).
+SceneModel make_furnace(float emission, float albedo);
+// A Lambert sphere of albedo rho inside a black enclosure emitting `emission` inwards:
+// sphere pixels converge to rho * emission, the rest to emission.
+SceneModel make_lit_sphere(float emission, float rho);
+
+// Per-pixel Welch t-tests between two sets of batch images (independent seeds), Šidák-
+// corrected over all pixels and channels, plus one test on the image mean.
+struct AgreementResult {
+    double min_pixel_p = 1.0;
+    double pixel_threshold = 0.0;  // Šidák per-test level
+    double mean_p = 1.0;
+    std::size_t worst_value = 0;          // index into rgb of the least agreeing pixel channel
+    double worst_a = 0.0, worst_b = 0.0;  // its means in a and b
+    bool agree(double alpha) const { return min_pixel_p >= pixel_threshold && mean_p >= alpha; }
+};
+// block > 1 averages block x block pixel squares first: for sparse, heavy-tailed estimators
+// (BSDF sampling of a small light) per-pixel batch means are far from normal.
+AgreementResult compare_batches(const std::vector<FloatImage>& a, const std::vector<FloatImage>& b,
+                                double alpha, int block = 1);
+
+// Two-sided p-value of Student's t with `dof` degrees of freedom.
+double student_t_p_value(double t, double dof);
+
+}  // namespace pathfarm::test

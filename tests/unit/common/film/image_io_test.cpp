@@ -1,0 +1,50 @@
+// Image files: EXR and PFM round-trip linear float exactly; PNG is tonemapped; errors name files.
+#include "common/film/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include "common/film/image_compare.h"
+#include "tests/support/test_env.h"
+
+namespace pathfarm {
+namespace {
+
+FloatImage gradient() {
+    FloatImage img(7, 5);
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 7; ++x)
+            img.set_pixel(x, y, Rgb(0.1f * x, 0.37f * y, 123.5f));
+    return img;
+}
+
+TEST(ImageIo, FloatFormatsRoundTripExactly) {
+    const std::string dir = test::scratch_dir();
+    const FloatImage img = gradient();
+    for (const char* name : {"/a.exr", "/a.pfm"}) {
+        ASSERT_TRUE(write_image(dir + name, img).ok());
+        auto back = read_image(dir + name);
+        ASSERT_TRUE(back.ok()) << back.error().message;
+        ASSERT_EQ(back->width, 7);
+        EXPECT_EQ(back->rgb, img.rgb) << name << " keeps row 0 at the top and full precision";
+    }
+}
+
+TEST(ImageIo, PngIsWrittenAndBadPathsAreErrors) {
+    const std::string dir = test::scratch_dir();
+    EXPECT_TRUE(write_image(dir + "/a.png", gradient()).ok());
+    EXPECT_FALSE(write_image(dir + "/a.xyz", gradient()).ok());
+    const auto missing = read_image(dir + "/none.exr");
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.error().message.find("none.exr"), std::string::npos);
+}
+
+TEST(ImageCompare, RmseAndRelativeMse) {
+    FloatImage a(2, 1), b(2, 1);
+    b.rgb = {1, 1, 1, 1, 1, 1};
+    EXPECT_NEAR(rmse(a, b), 1.0, 1e-12);
+    EXPECT_NEAR(relative_mse(a, b, 0.0), 1.0, 1e-12);
+    EXPECT_EQ(rmse(b, b), 0.0);
+}
+
+}  // namespace
+}  // namespace pathfarm
