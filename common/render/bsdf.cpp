@@ -42,7 +42,7 @@ Rgb Bsdf::eval_plastic(const Vec3& wo, const Vec3& wi) const {
     const float t_o = 1.0f - max_component(fresnel_schlick(f0, f90, wo.z));
     const float t_i = 1.0f - max_component(fresnel_schlick(f0, f90, wi.z));
     Rgb value = (t_o * t_i) * mp_.base_color * kInvPi;
-    if (!smooth_) {
+    if (!smooth_ && mp_.specular > 0.0f) {
         const Vec3 m = glm::normalize(wo + wi);
         const Ggx ggx(mp_.alpha);
         value += fresnel_schlick(f0, f90, glm::dot(wo, m)) *

@@ -42,7 +42,8 @@ LightSampler::LightSampler(const ShadingScene& shading) : shading_(shading) {
             const Vec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
             const float area = 0.5f * glm::length(c);
             SurfacePoint probe = shading.surface(Hit{0.0f, i, t, 1.0f / 3.0f, 1.0f / 3.0f});
-            triangles_.push_back({i, t, p[0], p[1] - p[0], p[2] - p[0], probe.ng, area});
+            triangles_.push_back(
+                {i, t, mesh.material, p[0], p[1] - p[0], p[2] - p[0], probe.ng, area});
             power.push_back(double(luminance(mean)) * area * sides);
         }
     }
@@ -84,9 +85,15 @@ std::optional<LightSample> LightSampler::sample(const Vec3& from, float u_select
     ls.n = tri.n;
     const float pmf = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
     ls.pdf = (1.0f - p_environment_) * pmf / tri.area;
-    SurfacePoint sp = shading_.surface(Hit{0.0f, tri.instance, tri.prim, b.x, b.y});
-    sp.p = ls.p;
-    ls.radiance = shading_.emitted(sp, glm::normalize(from - ls.p));
+    const Material& mat = shading_.model().materials[tri.material];
+    if (mat.emissive_texture.valid()) {  // needs the UV: rebuild the full surface point
+        SurfacePoint sp = shading_.surface(Hit{0.0f, tri.instance, tri.prim, b.x, b.y});
+        sp.p = ls.p;
+        ls.radiance = shading_.emitted(sp, glm::normalize(from - ls.p));
+    } else {
+        const bool front = glm::dot(from - ls.p, tri.n) > 0.0f;
+        ls.radiance = front || mat.double_sided ? mat.emission() : Rgb(0.0f);
+    }
     return ls;
 }
 

@@ -39,6 +39,7 @@ public:
 private:
     struct EmissiveTriangle {
         uint32_t instance, prim;
+        int material;
         Vec3 p0, e1, e2, n;
         float area;
     };

@@ -8,58 +8,86 @@
 #include "common/base/log.h"
 #include "tools/render/render_tool.h"
 
+namespace {
+
+pathfarm::Vec3 to_vec3(const std::vector<float>& v) { return {v[0], v[1], v[2]}; }
+
+void add_camera_options(CLI::App& app, pathfarm::tools::RenderToolOptions& o,
+                        std::vector<float>& look_from, std::vector<float>& look_at,
+                        std::vector<float>& up) {
+    app.add_option("--camera", o.camera,
+                   "Camera index (-1: the scene's first camera or a framing of its bounds)")
+        ->capture_default_str();
+    app.add_option("--look-from", look_from, "Camera position x y z (overrides scene cameras)")
+        ->expected(3);
+    app.add_option("--look-at", look_at, "Point the --look-from camera looks at")->expected(3);
+    app.add_option("--up", up, "Up vector of the --look-from camera (default 0 1 0)")->expected(3);
+    app.add_option("--fov", o.fov_degrees, "Vertical field of view of --look-from, degrees")
+        ->capture_default_str();
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     pathfarm::tools::RenderToolOptions o;
-    std::string log_level = "info";
-    CLI::App app{"pathfarm-render: render a scene in one process (scene, integrator, image file)"};
+    std::string log_level = "info", strategy = "mis";
+    std::vector<float> look_from, look_at, up;
+    CLI::App app{"pathfarm-render: render a scene in one process (scene, integrator, image)"};
     app.add_option("--scene", o.scene,
                    "Scene file (.gltf .glb .obj[.gz] .ply[.gz]) or builtin:cornell|default")
         ->capture_default_str();
-    app.add_option("--out", o.out,
-                   "Output image: .exr/.pfm (linear float) or .png (tonemapped sRGB)")
+    app.add_option("--out", o.out, "Output: .exr/.pfm (linear float) or .png (tonemapped sRGB)")
         ->capture_default_str();
     app.add_option("--width", o.width, "Image width in pixels")->capture_default_str();
     app.add_option("--height", o.height, "Image height in pixels (aspect = width/height)")
         ->capture_default_str();
     auto* spp = app.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
-    app.add_option("--seconds", o.seconds, "Render for this many seconds instead of a fixed spp")
+    app.add_option("--seconds", o.seconds, "Render for this many seconds instead of --spp")
         ->excludes(spp);
     app.add_option("--seed", o.seed, "Seed of the per-sample random numbers")
         ->capture_default_str();
     app.add_option("--frame", o.frame, "Frame index (enters the random numbers)")
         ->capture_default_str();
-    app.add_option("--camera", o.camera,
-                   "Camera index (-1: the scene's first camera or a framing of its bounds)")
-        ->capture_default_str();
+    add_camera_options(app, o, look_from, look_at, up);
     app.add_option("--threads", o.threads, "Render threads (0: all)")->capture_default_str();
     app.add_option("--max-depth", o.max_depth, "Maximum number of bounces")->capture_default_str();
-    app.add_option("--backend", o.backend, "Render backend")
+    app.add_option("--backend", o.backend, "Render backend: embree or opencl")
+        ->capture_default_str();
+    app.add_option("--strategy", strategy,
+                   "Direct light: mis, light (light sampling only) or bsdf (BSDF sampling only)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"embree", "opencl"}));
-    const std::map<std::string, pathfarm::LightStrategy> strategies{
-        {"mis", pathfarm::LightStrategy::mis},
-        {"light", pathfarm::LightStrategy::light_only},
-        {"bsdf", pathfarm::LightStrategy::bsdf_only}};
-    app.add_option("--strategy", o.strategy,
-                   "Direct-light estimator: mis, light (NEE only) or bsdf")
-        ->transform(CLI::CheckedTransformer(strategies))
-        ->default_str("mis");
+        ->check(CLI::IsMember({"mis", "light", "bsdf"}));
+    app.add_option("--reference", o.reference,
+                   "Reference image of the same size: also print rmse= and rel_mse=");
     app.add_option("--exposure", o.exposure, "Exposure multiplier for PNG output")
         ->capture_default_str();
-    app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
+    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
         ->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e) == 0 ? 0 : 2;
     }
+    const std::map<std::string, pathfarm::LightStrategy> strategies{
+        {"mis", pathfarm::LightStrategy::mis},
+        {"light", pathfarm::LightStrategy::light_only},
+        {"bsdf", pathfarm::LightStrategy::bsdf_only}};
+    o.strategy = strategies.at(strategy);
+    if (!look_from.empty()) o.look_from = to_vec3(look_from);
+    if (!look_at.empty()) o.look_at = to_vec3(look_at);
+    if (!up.empty()) o.up = to_vec3(up);
     pathfarm::init_logging("pathfarm-render", log_level);
+
     const auto summary = pathfarm::tools::run_render(o);
     if (!summary) {
         std::fprintf(stderr, "pathfarm-render: %s\n", summary.error().message.c_str());
         return summary.error().code == pathfarm::ErrorCode::invalid_argument ? 2 : 1;
     }
-    fmt::print("seconds={:.3f} spp={} samples_per_s={:.0f} rays_per_s={:.0f}\n", summary->seconds,
-               summary->spp, summary->samples_per_second, summary->rays_per_second);
+    std::string error_figures;
+    if (summary->rmse)
+        error_figures =
+            fmt::format(" rmse={:.6g} rel_mse={:.6g}", *summary->rmse, *summary->relative_mse);
+    fmt::print("seconds={:.3f} spp={} samples_per_s={:.0f} rays_per_s={:.0f}{}\n", summary->seconds,
+               summary->spp, summary->samples_per_second, summary->rays_per_second, error_figures);
     return 0;
 }

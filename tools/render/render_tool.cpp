@@ -6,14 +6,28 @@
 
 #include "common/base/timer.h"
 #include "common/film/film.h"
+#include "common/film/image_compare.h"
 #include "common/film/image_io.h"
+#include "common/math/transform.h"
 #include "common/scene/load/scene_loader.h"
 #include "tracer-node/backend/render_backend.h"
 
 namespace pathfarm::tools {
 namespace {
 
-Result<Camera> pick_camera(const SceneModel& scene, int index, float aspect) {
+Result<Camera> pick_camera(const SceneModel& scene, const RenderToolOptions& o, float aspect) {
+    if (o.look_from) {
+        if (!o.look_at || *o.look_from == *o.look_at ||
+            !(o.fov_degrees > 0.0f && o.fov_degrees < 180.0f))
+            return make_error(ErrorCode::invalid_argument,
+                              "--look-from needs --look-at at another point and --fov in (0, 180)");
+        Camera c;
+        c.name = "command-line";
+        c.yfov_radians = glm::radians(o.fov_degrees);
+        c.camera_to_world = look_at_camera(*o.look_from, *o.look_at, o.up);
+        return c;
+    }
+    const int index = o.camera;
     if (index >= int(scene.cameras.size()))
         return make_error(ErrorCode::invalid_argument, "--camera {}: scene has {} camera(s)", index,
                           scene.cameras.size());
@@ -55,7 +69,11 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     spdlog::info("{}: {} triangles, {} instances, {} materials, {} textures (loaded in {:.2f} s)",
                  o.scene, triangle_count(*scene), scene->instances.size(), scene->materials.size(),
                  scene->textures.size(), load_timer.seconds());
-    auto camera = pick_camera(*scene, o.camera, float(o.width) / float(o.height));
+    const Bounds3f bounds = world_bounds(*scene);
+    spdlog::debug("{}: bounds ({:.3g}, {:.3g}, {:.3g}) to ({:.3g}, {:.3g}, {:.3g})", o.scene,
+                  bounds.lower.x, bounds.lower.y, bounds.lower.z, bounds.upper.x, bounds.upper.y,
+                  bounds.upper.z);
+    auto camera = pick_camera(*scene, o, float(o.width) / float(o.height));
     if (!camera) return camera.error();
     auto backend = tracer::create_backend(*kind, tracer::BackendOptions{o.threads});
     if (!backend) return backend.error();
@@ -94,6 +112,16 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     summary.nonfinite_samples = counters.nonfinite_samples;
     if (counters.nonfinite_samples > 0)
         spdlog::warn("{} samples were NaN/Inf and were discarded", counters.nonfinite_samples);
+    if (!o.reference.empty()) {
+        auto ref = read_image(o.reference);
+        if (!ref) return ref.error();
+        if (ref->width != image.width || ref->height != image.height)
+            return make_error(ErrorCode::invalid_argument,
+                              "--reference {}: {}x{} image, render is {}x{}", o.reference,
+                              ref->width, ref->height, image.width, image.height);
+        summary.rmse = rmse(image, *ref);
+        summary.relative_mse = relative_mse(image, *ref);
+    }
     if (Status s = write_image(o.out, image, o.exposure); !s) return s.error();
     spdlog::info("wrote {} ({}x{}, {} spp)", o.out, o.width, o.height, summary.spp);
     return summary;

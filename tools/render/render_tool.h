@@ -1,6 +1,7 @@
 // pathfarm-render: the whole pipeline in one process (scene -> backend -> image file).
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "common/base/result.h"
@@ -19,6 +20,11 @@ struct RenderToolOptions {
     uint32_t seed = 0;
     uint32_t frame = 0;
     int camera = -1;  // -1: the scene's first camera, or a framing of its bounds
+    // An explicit view overrides the scene's cameras (for benchmarks against other renderers).
+    std::optional<Vec3> look_from, look_at;
+    Vec3 up{0.0f, 1.0f, 0.0f};
+    float fov_degrees = 45.0f;  // vertical, with look_from
+    std::string reference;      // if set: report RMSE and relative MSE against this image
     int threads = 0;
     int max_depth = 8;
     LightStrategy strategy = LightStrategy::mis;
@@ -31,6 +37,7 @@ struct RenderSummary {
     double samples_per_second = 0.0;
     double rays_per_second = 0.0;
     uint64_t nonfinite_samples = 0;
+    std::optional<double> rmse, relative_mse;  // against RenderToolOptions::reference
 };
 
 Result<RenderSummary> run_render(const RenderToolOptions& options);

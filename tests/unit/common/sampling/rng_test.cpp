@@ -62,6 +62,15 @@ TEST(PixelSampler, FirstPowerOfTwoSamplesAreStratified) {
     }
 }
 
+TEST(PixelSampler, TableFormulationEqualsTheDefinition) {
+    Pcg32 rng(77);
+    for (int i = 0; i < 10000; ++i) {
+        const uint32_t w = rng.next_u32();
+        EXPECT_EQ(detail::reversed_sobol_dim1_of_reversed(w),
+                  reverse_bits(sobol_dim1(reverse_bits(w))));
+    }
+}
+
 TEST(Pcg32, KnownFirstValuesAreStable) {
     Pcg32 a(1), b(1), c(2);
     EXPECT_EQ(a.next_u32(), b.next_u32());

@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""Render benchmark (issue: foundation): samples/s and rays/s of pathfarm-render at 640x360
+beside Embree's own `pathtracer` tutorial on the same OBJ scenes and views, alternated A/B in
+one run and summarised as medians and ratios; and, paired with error, the time pathfarm needs
+to reach RMSE 0.02 against a converged reference of builtin:cornell, per direct-light
+estimator (MIS, light sampling only, BSDF sampling only). Writes CSV files and gnuplot PNGs."""
+import argparse
+import csv
+import math
+import os
+import re
+import statistics
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCENES = os.environ.get("PATHFARM_SCENES", os.path.join(ROOT, "..", "shared", "scenes"))
+
+# name, file, look-from, look-at, vertical fov (degrees)
+VIEWS = [
+    ("cornell-obj", "cornell-box/CornellBox-Original.obj", (0, 1, 3.5), (0, 1, 0), 40),
+    ("sponza", "dabrovic-sponza/sponza.obj", (-10, 2, 0), (10, 6, 0), 60),
+    ("conference", "conference/conference.obj.gz", (1500, 500, 500), (0, 100, -500), 60),
+]
+WIDTH, HEIGHT, MAX_DEPTH = 640, 360, 8
+
+
+def run(cmd):
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"render_bench: {' '.join(cmd)} failed:\n{out.stderr[-2000:]}")
+    return out.stdout + out.stderr
+
+
+def pathfarm(render, scene, extra):
+    text = run([render, "--scene", scene, "--log-level", "error", "--max-depth", str(MAX_DEPTH)] + extra)
+    summary = [line for line in text.splitlines() if line.startswith("seconds=")][-1]
+    fields = dict(re.findall(r"(\w+)=([0-9.eE+-]+)", summary))
+    return {k: float(v) for k, v in fields.items()}
+
+
+def plain_obj(path, cache_dir):
+    """Embree's tutorial reads no gzip: unpack into the cache, with the .mtl files beside it."""
+    if not path.endswith(".gz"):
+        return path
+    import glob
+    import gzip
+    import shutil
+    os.makedirs(cache_dir, exist_ok=True)
+    target = os.path.join(cache_dir, os.path.basename(path)[:-3])
+    if not os.path.exists(target):
+        with gzip.open(path, "rb") as src, open(target, "wb") as dst:
+            shutil.copyfileobj(src, dst)
+    for mtl in glob.glob(os.path.join(os.path.dirname(path), "*.mtl")):
+        link = os.path.join(cache_dir, os.path.basename(mtl))
+        if not os.path.exists(link):
+            os.symlink(os.path.abspath(mtl), link)
+    return target
+
+
+def embree(path, view, frames):
+    _, rel, eye, at, fov = view
+    path = plain_obj(path, os.path.join(ROOT, "bench", "cache"))
+    cmd = ["pathtracer", "-i", path, "--size", str(WIDTH), str(HEIGHT), "--spp", "1",
+           "--max-path-length", str(MAX_DEPTH), "--benchmark", "1", str(frames), "--threads", "2",
+           "--vp", *map(str, eye), "--vi", *map(str, at), "--vu", "0", "1", "0", "--fov", str(fov),
+           "--ambientlight", "0.5", "0.5", "0.5", "--directionallight", "-0.35", "-0.8", "-0.45", "3", "3", "3"]
+    text = run(cmd)
+    fps = float(re.search(r"BENCHMARK_RENDER_AVG ([0-9.]+)", text).group(1))
+    mrays = float(re.search(r"BENCHMARK_RENDER_MRAYPS_AVG ([0-9.]+)", text).group(1))
+    return {"samples_per_s": fps * WIDTH * HEIGHT, "rays_per_s": mrays * 1e6}
+
+
+def throughput(render, rounds, spp, frames, out_dir):
+    rows, summary = [], []
+    for view in VIEWS:
+        name, rel, eye, at, fov = view
+        path = os.path.join(SCENES, rel)
+        if not os.path.exists(path):
+            sys.exit(f"render_bench: {path} missing (set PATHFARM_SCENES)")
+        ours, theirs = [], []
+        for r in range(rounds):  # A/B alternated so machine noise hits both alike
+            o = pathfarm(render, path, ["--spp", str(spp), "--width", str(WIDTH), "--height", str(HEIGHT),
+                                        "--look-from", *map(str, eye), "--look-at", *map(str, at), "--fov", str(fov),
+                                        "--out", os.path.join(out_dir, f"{name}.exr")])
+            e = embree(path, view, frames)
+            ours.append(o)
+            theirs.append(e)
+            rows.append([name, "pathfarm", r, round(o["samples_per_s"]), round(o["rays_per_s"])])
+            rows.append([name, "embree-pathtracer", r, round(e["samples_per_s"]), round(e["rays_per_s"])])
+        med = lambda xs, k: statistics.median(x[k] for x in xs)
+        summary.append([name, round(med(ours, "samples_per_s")), round(med(theirs, "samples_per_s")),
+                        round(med(ours, "samples_per_s") / med(theirs, "samples_per_s"), 3),
+                        round(med(ours, "rays_per_s")), round(med(theirs, "rays_per_s")),
+                        round(med(ours, "rays_per_s") / med(theirs, "rays_per_s"), 3)])
+    o = [pathfarm(render, "builtin:cornell", ["--spp", str(spp), "--width", str(WIDTH), "--height", str(HEIGHT),
+                                              "--out", os.path.join(out_dir, "builtin-cornell.exr")]) for _ in range(rounds)]
+    summary.append(["builtin:cornell", round(statistics.median(x["samples_per_s"] for x in o)), "", "",
+                    round(statistics.median(x["rays_per_s"] for x in o)), "", ""])
+    write_csv(os.path.join(out_dir, "throughput_runs.csv"), ["scene", "renderer", "round", "samples_per_s", "rays_per_s"], rows)
+    write_csv(os.path.join(out_dir, "throughput.csv"),
+              ["scene", "pathfarm_samples_per_s", "embree_samples_per_s", "samples_ratio",
+               "pathfarm_rays_per_s", "embree_rays_per_s", "rays_ratio"], summary)
+    return summary
+
+
+def time_to_error(render, ref_spp, max_log2, out_dir, cache_dir, size=256, target=0.02):
+    os.makedirs(cache_dir, exist_ok=True)
+    ref = os.path.join(cache_dir, f"cornell_ref_{size}_{ref_spp}.exr")
+    if not os.path.exists(ref):
+        print(f"render_bench: converged reference {ref} ({ref_spp} spp)...", flush=True)
+        pathfarm(render, "builtin:cornell", ["--spp", str(ref_spp), "--width", str(size), "--height", str(size),
+                                             "--seed", "987654", "--out", ref])
+    rows, reached = [], []
+    for variant in ("mis", "light", "bsdf"):
+        prev = None
+        for k in range(max_log2 + 1):
+            spp = 2 ** k
+            r = pathfarm(render, "builtin:cornell", ["--spp", str(spp), "--width", str(size), "--height", str(size),
+                                                     "--strategy", variant, "--reference", ref,
+                                                     "--out", os.path.join(out_dir, "ttr.exr")])
+            eff = 1.0 / (r["rel_mse"] * r["seconds"]) if r["rel_mse"] > 0 else float("inf")
+            rows.append(["builtin:cornell", variant, spp, r["seconds"], r["rmse"], r["rel_mse"], eff])
+            if prev and prev[1] > target >= r["rmse"]:  # log-log interpolation of the crossing
+                t = math.exp(math.log(prev[0]) + (math.log(target) - math.log(prev[1])) /
+                             (math.log(r["rmse"]) - math.log(prev[1])) * (math.log(r["seconds"]) - math.log(prev[0])))
+                reached.append([variant, round(t, 4), spp])
+            prev = (r["seconds"], r["rmse"])
+    write_csv(os.path.join(out_dir, "time_vs_error.csv"),
+              ["scene", "variant", "spp", "seconds", "rmse", "rel_mse", "efficiency"], rows)
+    write_csv(os.path.join(out_dir, "time_to_rmse.csv"), ["variant", "seconds_to_rmse_0.02", "spp_reached"], reached)
+    return reached
+
+
+def write_csv(path, header, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def plot(out_dir):
+    script = f"""
+set datafile separator ','
+set terminal pngcairo size 900,600
+set output '{out_dir}/time_vs_error.png'
+set title 'builtin:cornell 256x256: RMSE against a converged reference'
+set logscale xy
+set xlabel 'render seconds'
+set ylabel 'RMSE'
+set grid
+set key top right
+plot for [v in "mis light bsdf"] '< grep ",'.v.'," {out_dir}/time_vs_error.csv' using 4:5 with linespoints title v, \\
+     0.02 with lines dashtype 2 title 'RMSE 0.02'
+set output '{out_dir}/throughput.png'
+unset logscale
+set title 'Samples/s at 640x360, median of rounds (pathfarm vs Embree pathtracer tutorial)'
+set style data histograms
+set style histogram clustered
+set style fill solid 0.8
+set ylabel 'samples per second'
+set xlabel ''
+plot '< head -4 {out_dir}/throughput.csv' using 2:xtic(1) title 'pathfarm', '' using 3 title 'Embree pathtracer'
+"""
+    subprocess.run(["gnuplot"], input=script, text=True, check=True)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--render", default=os.path.join(ROOT, "build", "release", "tools", "pathfarm-render"))
+    p.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    p.add_argument("--quick", action="store_true", help="fewer rounds and a cheaper reference")
+    a = p.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    rounds, spp, frames = (1, 4, 4) if a.quick else (3, 16, 16)
+    summary = throughput(a.render, rounds, spp, frames, a.out)
+    reached = time_to_error(a.render, 256 if a.quick else 4096, 7 if a.quick else 10, a.out,
+                            os.path.join(ROOT, "bench", "cache"))
+    plot(a.out)
+    print("scene,pathfarm_samples_per_s,embree_samples_per_s,samples_ratio,pathfarm_rays_per_s,embree_rays_per_s,rays_ratio")
+    for row in summary:
+        print(",".join(map(str, row)))
+    print("variant,seconds_to_rmse_0.02,spp_reached")
+    for row in reached:
+        print(",".join(map(str, row)))
+
+
+if __name__ == "__main__":
+    main()

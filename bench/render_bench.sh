@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Builds the release tree and runs bench/render_bench.py (pass --quick for a short run).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+"$root/scripts/install_deps.sh"
+"$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF
+exec python3 "$root/bench/render_bench.py" "$@"
