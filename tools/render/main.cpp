@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     if (summary->rmse)
         error_figures =
             fmt::format(" rmse={:.6g} rel_mse={:.6g}", *summary->rmse, *summary->relative_mse);
-    fmt::print("seconds={:.3f} spp={} samples_per_s={:.0f} rays_per_s={:.0f}{}\n", summary->seconds,
-               summary->spp, summary->samples_per_second, summary->rays_per_second, error_figures);
+    fmt::print("seconds={:.3f} samples_per_s={:.0f} rays_per_s={:.0f} spp={}{}\n", summary->seconds,
+               summary->samples_per_second, summary->rays_per_second, summary->spp, error_figures);
     return 0;
 }
