@@ -2,7 +2,7 @@
 add_library(pathfarm_warnings INTERFACE)
 target_compile_options(pathfarm_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Wunused
-  -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough)
+  -Woverloaded-virtual -Wimplicit-fallthrough)
 if(PATHFARM_WERROR)
   target_compile_options(pathfarm_warnings INTERFACE -Werror)
 endif()

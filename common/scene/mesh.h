@@ -5,9 +5,19 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/type_precision.hpp>
+
 #include "common/math/types.h"
 
 namespace pathfarm {
+
+// Per-vertex offsets of one morph target (glTF: each attribute is a delta). Empty arrays mean
+// the target does not change that attribute.
+struct MorphTarget {
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;
+    std::vector<Vec3> tangents;
+};
 
 struct Mesh {
     std::string name;
@@ -17,6 +27,11 @@ struct Mesh {
     std::vector<Vec4> tangents;     // xyz tangent, w = bitangent sign (glTF)
     std::vector<uint32_t> indices;  // three per triangle, counter-clockwise = front face
     int material = 0;
+    // Skinning (JOINTS_0 / WEIGHTS_0): joint indices into the node's skin, one set per vertex.
+    std::vector<glm::u16vec4> joints;
+    std::vector<Vec4> weights;
+    std::vector<MorphTarget> morph_targets;
+    std::vector<float> default_morph_weights;  // glTF mesh.weights
 
     std::size_t triangle_count() const { return indices.size() / 3; }
     bool has_normals() const { return !normals.empty(); }

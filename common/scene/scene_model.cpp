@@ -54,6 +54,13 @@ bool has_emissive_triangles(const SceneModel& scene) {
     return false;
 }
 
+bool has_deformation(const SceneModel& scene) {
+    for (const Node& node : scene.nodes)
+        for (int m : node.meshes)
+            if (node.skin >= 0 || !scene.meshes[m].morph_targets.empty()) return true;
+    return false;
+}
+
 bool uses_sun_sky(const SceneModel& scene) {
     switch (scene.environment.sky) {
         case SkyMode::on:

@@ -6,7 +6,10 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/quaternion.hpp>
+
 #include "common/math/types.h"
+#include "common/scene/animation.h"
 #include "common/scene/camera.h"
 #include "common/scene/environment.h"
 #include "common/scene/material.h"
@@ -18,9 +21,18 @@ namespace pathfarm {
 struct Node {
     std::string name;
     int parent = -1;
-    Mat4 local{1.0f};
+    Mat4 local{1.0f};  // equals compose_trs(translation, rotation, scale) when has_trs
+    // glTF TRS, which animation overrides component by component. A node given as a matrix
+    // has has_trs = false and cannot be animated (glTF forbids animating it).
+    Vec3 translation{0.0f};
+    glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+    Vec3 scale{1.0f};
+    bool has_trs = false;
     std::vector<int> meshes;
     int camera = -1;
+    int skin = -1;                     // index into SceneModel::skins
+    std::vector<float> morph_weights;  // node.weights, or the mesh's default weights
+    int source_index = -1;             // the node's index in its glTF file; -1 if none
 };
 
 struct Instance {
@@ -38,6 +50,8 @@ struct SceneModel {
     std::vector<Node> nodes;  // parents precede children
     std::vector<Instance> instances;
     std::vector<Camera> cameras;  // camera_to_world already in world space
+    std::vector<Skin> skins;
+    std::vector<AnimationClip> animations;
     Environment environment;
 
     const Image* texture_image(const TextureRef& ref) const;
@@ -52,5 +66,7 @@ std::size_t triangle_count(const SceneModel& scene);
 bool has_emissive_triangles(const SceneModel& scene);
 // Whether the sun/sky lights this scene (Environment::sky resolved against its emitters).
 bool uses_sun_sky(const SceneModel& scene);
+// Whether any mesh is skinned or has morph targets (its vertices depend on the pose).
+bool has_deformation(const SceneModel& scene);
 
 }  // namespace pathfarm

@@ -17,8 +17,8 @@ struct CliRun {
     std::string output;
 };
 
-CliRun run_cli(const std::string& args) {
-    const std::string cmd = std::string(PATHFARM_RENDER_EXE) + " " + args + " 2>&1";
+CliRun run_cli(const std::string& args, const char* exe = PATHFARM_RENDER_EXE) {
+    const std::string cmd = std::string(exe) + " " + args + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     std::string out;
     std::array<char, 4096> buf{};
@@ -55,6 +55,38 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
         run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 --out " + dir + "/x.bmpx");
     EXPECT_EQ(ext.exit_code, 2) << ext.output;
     EXPECT_NE(run_cli("--help").output.find("--max-depth"), std::string::npos);
+}
+
+TEST(RenderCli, AnimatedSceneRendersAtTheRequestedTime) {
+    PF_REQUIRE_SCENES(scenes);
+    const std::string dir = test::scratch_dir();
+    const std::string common =
+        "--scene " + scenes +
+        "/box-animated/BoxAnimated.gltf --spp 2 --width 32 --height 32 --out ";
+    ASSERT_EQ(run_cli(common + dir + "/a.exr --time 0.2").exit_code, 0);
+    ASSERT_EQ(run_cli(common + dir + "/b.exr --time 1.7 --clip 0").exit_code, 0);
+    auto a = read_image(dir + "/a.exr"), b = read_image(dir + "/b.exr");
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_NE(a->rgb, b->rgb) << "the pose must change with --time";
+    const CliRun bad = run_cli(common + dir + "/c.exr --time 1 --clip NoSuchClip");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.output.find("NoSuchClip"), std::string::npos);
+}
+
+TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
+    PF_REQUIRE_SCENES(scenes);
+    const std::string dir = test::scratch_dir();
+    const CliRun ok =
+        run_cli("--scene " + scenes + "/cesium-man/CesiumMan.gltf --export-at 0.5 --export " + dir +
+                    "/man.obj",
+                PATHFARM_COORDINATOR_EXE);
+    EXPECT_EQ(ok.exit_code, 0) << ok.output;
+    const CliRun missing =
+        run_cli("--scene " + dir + "/none.glb --export-at 1 --export " + dir + "/x.obj",
+                PATHFARM_COORDINATOR_EXE);
+    EXPECT_EQ(missing.exit_code, 1);
+    EXPECT_NE(missing.output.find("none.glb"), std::string::npos);
+    EXPECT_EQ(run_cli("--export-at 1", PATHFARM_COORDINATOR_EXE).exit_code, 2);
 }
 
 }  // namespace

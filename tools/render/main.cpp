@@ -57,6 +57,10 @@ int main(int argc, char** argv) {
                    "Direct light: mis, light (light sampling only) or bsdf (BSDF sampling only)")
         ->capture_default_str()
         ->check(CLI::IsMember({"mis", "light", "bsdf"}));
+    double time = 0.0;
+    auto* time_option =
+        app.add_option("--time", time, "Animated scenes: time of the clip's own timeline, seconds");
+    app.add_option("--clip", o.clip, "Animation clip by name or index (default: the first)");
     app.add_option("--reference", o.reference,
                    "Reference image of the same size: also print rmse= and rel_mse=");
     app.add_option("--exposure", o.exposure, "Exposure multiplier for PNG output")
@@ -73,6 +77,7 @@ int main(int argc, char** argv) {
         {"light", pathfarm::LightStrategy::light_only},
         {"bsdf", pathfarm::LightStrategy::bsdf_only}};
     o.strategy = strategies.at(strategy);
+    if (time_option->count() > 0) o.time = time;
     if (!look_from.empty()) o.look_from = to_vec3(look_from);
     if (!look_at.empty()) o.look_at = to_vec3(look_at);
     if (!up.empty()) o.up = to_vec3(up);

@@ -10,6 +10,8 @@
 #include "common/film/image_io.h"
 #include "common/math/transform.h"
 #include "common/scene/load/scene_loader.h"
+#include "coordinator/animation/animator.h"
+#include "coordinator/animation/skinning.h"
 #include "tracer-node/backend/render_backend.h"
 
 namespace pathfarm::tools {
@@ -50,6 +52,20 @@ Status check_options(const RenderToolOptions& o) {
     return {};
 }
 
+// Applies --time/--clip, then skinning and morph targets (at the rest pose without --time).
+Status pose(SceneModel& scene, const RenderToolOptions& o) {
+    if (o.time && !scene.animations.empty()) {
+        auto clip = coord::find_clip(scene, o.clip.empty() ? "0" : o.clip);
+        if (!clip) return clip.error();
+        coord::apply_clip(scene, *clip, float(*o.time));
+    } else if (!o.clip.empty() && scene.animations.empty()) {
+        return make_error(ErrorCode::invalid_argument, "--clip {}: scene has no animations",
+                          o.clip);
+    }
+    if (has_deformation(scene)) scene = coord::pose_scene(scene);
+    return {};
+}
+
 // Adds a pass of `pass_spp` samples into the running mean of `done` samples.
 void accumulate(FloatImage& mean, const FloatImage& pass, int done, int pass_spp) {
     const double w = double(pass_spp) / double(done + pass_spp);
@@ -69,6 +85,7 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     spdlog::info("{}: {} triangles, {} instances, {} materials, {} textures (loaded in {:.2f} s)",
                  o.scene, triangle_count(*scene), scene->instances.size(), scene->materials.size(),
                  scene->textures.size(), load_timer.seconds());
+    if (Status s = pose(*scene, o); !s) return s.error();
     const Bounds3f bounds = world_bounds(*scene);
     spdlog::debug("{}: bounds ({:.3g}, {:.3g}, {:.3g}) to ({:.3g}, {:.3g}, {:.3g})", o.scene,
                   bounds.lower.x, bounds.lower.y, bounds.lower.z, bounds.upper.x, bounds.upper.y,

@@ -23,8 +23,10 @@ struct RenderToolOptions {
     // An explicit view overrides the scene's cameras (for benchmarks against other renderers).
     std::optional<Vec3> look_from, look_at;
     Vec3 up{0.0f, 1.0f, 0.0f};
-    float fov_degrees = 45.0f;  // vertical, with look_from
-    std::string reference;      // if set: report RMSE and relative MSE against this image
+    float fov_degrees = 45.0f;   // vertical, with look_from
+    std::string reference;       // if set: report RMSE and relative MSE against this image
+    std::optional<double> time;  // animated scenes: pose at this time of the clip's timeline
+    std::string clip;            // clip name or index; default the first
     int threads = 0;
     int max_depth = 8;
     LightStrategy strategy = LightStrategy::mis;

@@ -11,6 +11,7 @@
 #include "common/film/image_io.h"
 #include "common/math/transform.h"
 #include "common/scene/load/gltf_accessor.h"
+#include "common/scene/load/gltf_animation.h"
 #include "common/scene/load/scene_loader.h"
 
 namespace pathfarm {
@@ -83,13 +84,16 @@ private:
     Status import_primitive(const tinygltf::Primitive& prim, const std::string& name, Mesh& mesh);
     Status import_nodes();
     Status add_node(int gltf_node, int parent, int depth);
-    Mat4 node_local(const tinygltf::Node& node) const;
+    void set_node_transform(const tinygltf::Node& gn, Node& node) const;
+    Status import_deforming_attributes(const tinygltf::Primitive& prim, const std::string& name,
+                                       Mesh& mesh);
 
     const tinygltf::Model& gltf_;
     std::string path_;
     SceneModel scene_;
     std::vector<std::vector<int>> mesh_map_;  // glTF mesh -> our meshes (one per primitive)
     int default_material_ = -1;
+    std::vector<int> node_map_;  // glTF node -> our node, -1 when not in the scene
 };
 
 void GltfImporter::import_images_and_textures() {
@@ -242,6 +246,8 @@ Status GltfImporter::import_meshes() {
             Mesh mesh;
             mesh.name = gm.primitives.size() > 1 ? fmt::format("{}#{}", gm.name, pi) : gm.name;
             if (Status s = import_primitive(prim, mesh.name, mesh); !s) return s;
+            if (Status s = import_deforming_attributes(prim, mesh.name, mesh); !s) return s;
+            mesh.default_morph_weights.assign(gm.weights.begin(), gm.weights.end());
             if (prim.material >= 0 && prim.material < int(scene_.materials.size())) {
                 mesh.material = prim.material;
             } else {
@@ -263,22 +269,65 @@ Status GltfImporter::import_meshes() {
     return {};
 }
 
-Mat4 GltfImporter::node_local(const tinygltf::Node& node) const {
-    if (node.matrix.size() == 16) {
-        Mat4 m;
+void GltfImporter::set_node_transform(const tinygltf::Node& gn, Node& node) const {
+    if (gn.matrix.size() == 16) {
         for (int i = 0; i < 16; ++i)
-            glm::value_ptr(m)[i] = float(node.matrix[i]);
-        return m;
+            glm::value_ptr(node.local)[i] = float(gn.matrix[i]);
+        node.has_trs = false;
+        return;
     }
-    Vec3 t(0.0f), s(1.0f);
-    glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
-    if (node.translation.size() == 3)
-        t = Vec3(node.translation[0], node.translation[1], node.translation[2]);
-    if (node.scale.size() == 3) s = Vec3(node.scale[0], node.scale[1], node.scale[2]);
-    if (node.rotation.size() == 4)  // glTF stores x, y, z, w; glm::quat's constructor takes w first
-        r = glm::normalize(glm::quat(float(node.rotation[3]), float(node.rotation[0]),
-                                     float(node.rotation[1]), float(node.rotation[2])));
-    return compose_trs(t, r, s);
+    if (gn.translation.size() == 3)
+        node.translation = Vec3(gn.translation[0], gn.translation[1], gn.translation[2]);
+    if (gn.scale.size() == 3) node.scale = Vec3(gn.scale[0], gn.scale[1], gn.scale[2]);
+    if (gn.rotation.size() == 4)  // glTF stores x, y, z, w; glm::quat's constructor takes w first
+        node.rotation = glm::normalize(glm::quat(float(gn.rotation[3]), float(gn.rotation[0]),
+                                                 float(gn.rotation[1]), float(gn.rotation[2])));
+    node.has_trs = true;
+    node.local = compose_trs(node.translation, node.rotation, node.scale);
+}
+
+Status GltfImporter::import_deforming_attributes(const tinygltf::Primitive& prim,
+                                                 const std::string& name, Mesh& mesh) {
+    const std::size_t n = mesh.positions.size();
+    const auto joints = prim.attributes.find("JOINTS_0");
+    const auto weights = prim.attributes.find("WEIGHTS_0");
+    if (joints != prim.attributes.end() && weights != prim.attributes.end()) {
+        std::vector<uint32_t> j;
+        std::vector<float> w;
+        int comps = 0;
+        Status sj = read_accessor_uints(gltf_, joints->second, j);
+        Status sw = read_accessor_floats(gltf_, weights->second, w, comps);
+        if (!sj || !sw || j.size() != 4 * n || comps != 4 || w.size() != 4 * n)
+            return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": JOINTS_0/WEIGHTS_0: {}",
+                              path_, name,
+                              !sj   ? sj.error().message
+                              : !sw ? sw.error().message
+                                    : "not VEC4 per vertex");
+        for (std::size_t v = 0; v < n; ++v) {
+            mesh.joints.emplace_back(j[4 * v], j[4 * v + 1], j[4 * v + 2], j[4 * v + 3]);
+            mesh.weights.emplace_back(w[4 * v], w[4 * v + 1], w[4 * v + 2], w[4 * v + 3]);
+        }
+    }
+    for (const auto& target : prim.targets) {
+        MorphTarget mt;
+        for (const auto& [attr, out] :
+             {std::pair{"POSITION", &mt.positions}, std::pair{"NORMAL", &mt.normals},
+              std::pair{"TANGENT", &mt.tangents}}) {
+            const auto it = target.find(attr);
+            if (it == target.end()) continue;
+            std::vector<float> d;
+            int comps = 0;
+            if (Status st = read_accessor_floats(gltf_, it->second, d, comps);
+                !st || comps != 3 || d.size() != 3 * n)
+                return make_error(ErrorCode::parse_error, "{}: mesh \"{}\": morph target {}: {}",
+                                  path_, name, attr,
+                                  st ? "not a VEC3 per vertex" : st.error().message);
+            for (std::size_t v = 0; v < n; ++v)
+                out->emplace_back(d[3 * v], d[3 * v + 1], d[3 * v + 2]);
+        }
+        mesh.morph_targets.push_back(std::move(mt));
+    }
+    return {};
 }
 
 Status GltfImporter::add_node(int gltf_node, int parent, int depth) {
@@ -291,8 +340,15 @@ Status GltfImporter::add_node(int gltf_node, int parent, int depth) {
     Node node;
     node.name = gn.name;
     node.parent = parent;
-    node.local = node_local(gn);
-    if (gn.mesh >= 0 && gn.mesh < int(mesh_map_.size())) node.meshes = mesh_map_[gn.mesh];
+    set_node_transform(gn, node);
+    node.source_index = gltf_node;
+    node.skin = gn.skin >= 0 && gn.skin < int(gltf_.skins.size()) ? gn.skin : -1;
+    if (gn.mesh >= 0 && gn.mesh < int(mesh_map_.size())) {
+        node.meshes = mesh_map_[gn.mesh];
+        const auto& defaults = gltf_.meshes[gn.mesh].weights;
+        const auto& weights = gn.weights.empty() ? defaults : gn.weights;
+        node.morph_weights.assign(weights.begin(), weights.end());
+    }
     if (gn.camera >= 0 && gn.camera < int(gltf_.cameras.size())) {
         const tinygltf::Camera& gc = gltf_.cameras[gn.camera];
         Camera cam;
@@ -336,6 +392,11 @@ Result<SceneModel> GltfImporter::run() {
     import_materials();
     if (Status s = import_meshes(); !s) return s.error();
     if (Status s = import_nodes(); !s) return s.error();
+    node_map_.assign(gltf_.nodes.size(), -1);
+    for (std::size_t i = 0; i < scene_.nodes.size(); ++i)
+        node_map_[scene_.nodes[i].source_index] = int(i);
+    if (Status s = import_skins(gltf_, path_, node_map_, scene_); !s) return s.error();
+    if (Status s = import_animations(gltf_, path_, node_map_, scene_); !s) return s.error();
     flatten_nodes(scene_);
     return std::move(scene_);
 }

@@ -22,6 +22,17 @@ Status check_structure(const SceneModel& scene, const Mesh& mesh, std::size_t m,
         return make_error(ErrorCode::parse_error,
                           "{}: mesh {} \"{}\": attribute counts differ from {} positions", source,
                           m, mesh.name, n);
+    if ((!mesh.joints.empty() && (mesh.joints.size() != n || mesh.weights.size() != n)))
+        return make_error(ErrorCode::parse_error,
+                          "{}: mesh {} \"{}\": JOINTS_0/WEIGHTS_0 counts differ from {} positions",
+                          source, m, mesh.name, n);
+    for (const MorphTarget& t : mesh.morph_targets)
+        if ((!t.positions.empty() && t.positions.size() != n) ||
+            (!t.normals.empty() && t.normals.size() != n) ||
+            (!t.tangents.empty() && t.tangents.size() != n))
+            return make_error(ErrorCode::parse_error,
+                              "{}: mesh {} \"{}\": morph target sizes differ from {} positions",
+                              source, m, mesh.name, n);
     if (mesh.indices.size() % 3 != 0)
         return make_error(ErrorCode::parse_error,
                           "{}: mesh {} \"{}\": {} indices is not a multiple of 3", source, m,
@@ -117,6 +128,19 @@ Status validate_and_repair(SceneModel& scene, const std::string& source, RepairR
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
         if (Status s = check_structure(scene, scene.meshes[m], m, source); !s) return s;
         repair_mesh(scene.meshes[m], m, source, r);
+    }
+    for (const Node& node : scene.nodes) {
+        if (node.skin < 0) continue;
+        if (node.skin >= int(scene.skins.size()))
+            return make_error(ErrorCode::parse_error, "{}: node \"{}\": skin {} out of range",
+                              source, node.name, node.skin);
+        const std::size_t joints = scene.skins[node.skin].joints.size();
+        for (int mi : node.meshes)
+            for (const auto& j : scene.meshes[mi].joints)
+                if (j.x >= joints || j.y >= joints || j.z >= joints || j.w >= joints)
+                    return make_error(ErrorCode::parse_error,
+                                      "{}: mesh \"{}\": joint index beyond the skin's {} joints",
+                                      source, scene.meshes[mi].name, joints);
     }
     for (const Instance& inst : scene.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(scene.meshes.size()))
