@@ -14,7 +14,7 @@ ALLOWED = {
     "common/film": ["common/base", "common/math"],
     "common/scene": ["common/base", "common/math"],
     "common/scene/load": ["common/base", "common/math", "common/scene", "common/film"],
-    "common/commit": ["common/base", "common/math", "common/scene"],
+    "common/commit": ["common/base", "common/math", "common/scene", "proto"],
     "common/render": ["common/base", "common/math", "common/sampling", "common/scene"],
     "common/net": ["common/base", "proto"],
     "coordinator/balance": ["common/base"],
@@ -83,6 +83,10 @@ def check(root):
                             for prefix, owners in RESTRICTED.items():
                                 if inc.startswith(prefix) and not any(rel.startswith(o) for o in owners):
                                     errors.append(f"{rel}:{lineno}: <{inc}> may only be included from {', '.join(owners)}")
+                            continue
+                        if inc.endswith(".pb.h") and rel.startswith("common/") and not (
+                                rel == "common/commit/commit_codec.cpp" or rel.startswith("common/net/")):
+                            errors.append(f"{rel}:{lineno}: \"{inc}\": in common only commit_codec.cpp and net/ see protobuf")
                             continue
                         if "/" not in inc:
                             errors.append(f"{rel}:{lineno}: \"{inc}\": write includes from the repository root")

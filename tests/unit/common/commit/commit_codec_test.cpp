@@ -1,0 +1,63 @@
+// The commit codec: round trips, bounded chunks, and malformed input rejected with an error.
+#include "common/commit/commit_codec.h"
+
+#include <gtest/gtest.h>
+
+#include "common/scene/load/builtin_scenes.h"
+
+namespace pathfarm {
+namespace {
+
+Commit big_commit() {
+    const SceneState s = scene_state_from_model(make_default_scene());
+    return make_snapshot(s, 9);
+}
+
+TEST(CommitCodec, RoundTripsASnapshotExactly) {
+    const Commit c = big_commit();
+    const EncodedCommit e = encode_commit(c);
+    auto d = decode_commit(e.commit, e.chunks);
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    ReplicaState a, b;
+    ASSERT_TRUE(apply_commit(a, c).ok());
+    ASSERT_TRUE(apply_commit(b, *d).ok());
+    EXPECT_EQ(content_hash(a.scene), content_hash(b.scene));
+    EXPECT_EQ(d->frame, 9u);
+    EXPECT_TRUE(d->is_snapshot);
+}
+
+TEST(CommitCodec, BulkPayloadsTravelInBoundedChunks) {
+    const EncodedCommit e = encode_commit(big_commit(), 8192);
+    EXPECT_GT(e.chunks.size(), 10u);
+    for (const std::string& chunk : e.chunks)
+        EXPECT_LE(chunk.size(), 8192u + 64u);
+    EXPECT_LT(e.commit.size(), 8192u) << "bulk data stays out of the command stream";
+}
+
+TEST(CommitCodec, MalformedInputIsAnError) {
+    const EncodedCommit e = encode_commit(big_commit(), 8192);
+    EXPECT_FALSE(decode_commit("\xff\xff\xff garbage", e.chunks).ok());
+    std::vector<std::string> missing(e.chunks.begin(), e.chunks.end() - 1);
+    EXPECT_FALSE(decode_commit(e.commit, missing).ok());
+    std::vector<std::string> reordered = e.chunks;
+    std::swap(reordered[0], reordered[1]);
+    EXPECT_FALSE(decode_commit(e.commit, reordered).ok());
+    std::vector<std::string> truncated = e.chunks;
+    truncated.back().resize(truncated.back().size() / 2);
+    EXPECT_FALSE(decode_commit(e.commit, truncated).ok());
+    const EncodedCommit other = encode_commit(Commit{10, 9, false, {}});
+    std::vector<std::string> foreign = e.chunks;
+    foreign.push_back(encode_commit(big_commit()).chunks.front());
+    EXPECT_FALSE(decode_commit(other.commit, foreign).ok()) << "chunks of another commit";
+}
+
+TEST(CommitCodec, BadVertexUpdateIsRefusedByApply) {
+    ReplicaState r;
+    ASSERT_TRUE(apply_commit(r, big_commit()).ok());
+    Commit c{10, 9, false, {UpdateVertexRange{0, 1u << 30, {Vec3(1.0f)}, {}, {}}}};
+    EXPECT_FALSE(apply_commit(r, c).ok());
+    EXPECT_EQ(r.commit, 9u);
+}
+
+}  // namespace
+}  // namespace pathfarm
