@@ -2,7 +2,10 @@
 // one-line error (exit 2 for usage, 1 for runtime) on bad input.
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -87,6 +90,57 @@ TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
     EXPECT_EQ(missing.exit_code, 1);
     EXPECT_NE(missing.output.find("none.glb"), std::string::npos);
     EXPECT_EQ(run_cli("--export-at 1", PATHFARM_COORDINATOR_EXE).exit_code, 2);
+}
+
+std::vector<std::vector<double>> read_csv(const std::string& path, std::string& header) {
+    std::ifstream in(path);
+    std::getline(in, header);
+    std::vector<std::vector<double>> rows;
+    std::string line;
+    while (std::getline(in, line)) {
+        std::vector<double> row;
+        std::stringstream ls(line);
+        std::string cell;
+        while (std::getline(ls, cell, ','))
+            row.push_back(std::stod(cell));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+TEST(CoordinatorCli, OfflineLoopReplicatesEveryFrameOfASkinnedScene) {
+    PF_REQUIRE_SCENES(scenes);
+    const std::string csv = test::scratch_dir() + "/stats.csv";
+    const CliRun run = run_cli(
+        "--scene " + scenes + "/cesium-man/CesiumMan.gltf --offline --frames 20 --stats-csv " + csv,
+        PATHFARM_COORDINATOR_EXE);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::string header;
+    const auto rows = read_csv(csv, header);
+    EXPECT_EQ(header, "frame,commit_bytes,animate_ms,accel_ms,commit_ms,dynamic_tris,replica_ok");
+    ASSERT_EQ(rows.size(), 20u);
+    for (std::size_t f = 1; f < rows.size(); ++f) {
+        EXPECT_EQ(rows[f][6], 1.0) << "replica_ok, frame " << f;
+        EXPECT_GT(rows[f][5], 0.0) << "the skinned mesh deforms every frame";
+        EXPECT_GT(rows[f][1], 1000.0) << "deformed vertex data travels";
+        EXPECT_LT(rows[f][1], rows[0][1] / 10) << "but far less than the snapshot";
+    }
+}
+
+TEST(CoordinatorCli, StaticSceneCommitsAreTiny) {
+    const std::string csv = test::scratch_dir() + "/stats.csv";
+    const CliRun run = run_cli("--scene builtin:default --offline --frames 10 --stats-csv " + csv,
+                               PATHFARM_COORDINATOR_EXE);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::string header;
+    const auto rows = read_csv(csv, header);
+    ASSERT_EQ(rows.size(), 10u);
+    for (std::size_t f = 1; f < rows.size(); ++f)
+        EXPECT_LE(rows[f][1], 64.0);
+    EXPECT_EQ(
+        run_cli("--scene builtin:default --offline --frames 0", PATHFARM_COORDINATOR_EXE).exit_code,
+        2);
+    EXPECT_EQ(run_cli("--scene builtin:default", PATHFARM_COORDINATOR_EXE).exit_code, 2);
 }
 
 }  // namespace
