@@ -5,7 +5,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install_deps.sh"
-"$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF
+"$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF -DPATHFARM_BUILD_BENCH=ON
 mkdir -p "$root/out"
 render="$root/build/release/tools/pathfarm-render"
 "$render" --scene builtin:default --width 640 --height 360 --spp 64 --out "$root/out/default.exr" "$@"

@@ -1,0 +1,125 @@
+// BVH maintenance benchmark (issue: coordinator core). Prints CSV rows
+// `measure,triangles_or_instances,median_ms,per_1000_ms` to stdout:
+//   build of the Stanford dragon (871k triangles), refit and rebuild per 1000 dynamic
+//   triangles, top-level rebuild for 1k and 10k instances, and the per-frame update of a large
+//   static scene plus one skinned model next to that skinned model alone.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common/base/timer.h"
+#include "common/sampling/rng.h"
+#include "common/scene/load/scene_loader.h"
+#include "coordinator/accel/accel_updater.h"
+#include "coordinator/scene_graph/scene_graph.h"
+
+using namespace pathfarm;
+using namespace pathfarm::coord;
+
+namespace {
+
+template <typename F>
+double median_ms(int runs, F&& f) {
+    std::vector<double> t;
+    for (int i = 0; i < runs; ++i) {
+        const Timer timer;
+        f();
+        t.push_back(timer.milliseconds());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+void row(const char* what, std::size_t n, double ms) {
+    std::printf("%s,%zu,%.3f,%.4f\n", what, n, ms, ms / (double(n) / 1000.0));
+}
+
+SceneModel merge(SceneModel a, const SceneModel& b) {  // b's nodes, meshes and clips appended
+    const int meshes = int(a.meshes.size()), materials = int(a.materials.size()), nodes = int(a.nodes.size());
+    const int textures = int(a.textures.size()), images = int(a.images.size()), skins = int(a.skins.size());
+    for (Image img : b.images) a.images.push_back(std::move(img));
+    for (Texture t : b.textures) {
+        if (t.image >= 0) t.image += images;
+        a.textures.push_back(t);
+    }
+    for (Material m : b.materials) {
+        for (TextureRef* r : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.emissive_texture})
+            if (r->texture >= 0) r->texture += textures;
+        a.materials.push_back(std::move(m));
+    }
+    for (Mesh m : b.meshes) {
+        m.material += materials;
+        a.meshes.push_back(std::move(m));
+    }
+    for (Node n : b.nodes) {
+        if (n.parent >= 0) n.parent += nodes;
+        for (int& m : n.meshes) m += meshes;
+        if (n.skin >= 0) n.skin += skins;
+        n.camera = -1;
+        a.nodes.push_back(std::move(n));
+    }
+    for (Skin s : b.skins) {
+        for (int& j : s.joints) j += nodes;
+        a.skins.push_back(std::move(s));
+    }
+    for (AnimationClip c : b.animations) {
+        for (AnimationChannel& ch : c.channels) ch.node += nodes;
+        a.animations.push_back(std::move(c));
+    }
+    flatten_nodes(a);
+    return a;
+}
+
+double mean_update_ms(SceneModel scene, int frames) {
+    SceneGraph graph(std::move(scene));
+    graph.set_playing_clip(int(0));
+    AccelUpdater accel;
+    accel.build(graph.state(), 0);
+    double total = 0.0;
+    for (int f = 1; f <= frames; ++f) {
+        graph.advance(f / 30.0);
+        const ChangeSet c = graph.take_changes();
+        const Timer timer;
+        accel.update(graph.state(), c, uint64_t(f));
+        total += timer.milliseconds();
+    }
+    return total / frames;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string scenes = argc > 1 ? argv[1] : "../shared/scenes";
+    auto dragon = load_scene(scenes + "/stanford-dragon/dragon_vrip.ply.gz");
+    auto man = load_scene(scenes + "/cesium-man/CesiumMan.gltf");
+    if (!dragon || !man) {
+        std::fprintf(stderr, "accel_bench: %s\n", (!dragon ? dragon.error() : man.error()).message.c_str());
+        return 1;
+    }
+    std::printf("measure,count,median_ms,per_1000_ms\n");
+    Mesh& d = dragon->meshes[0];
+    const std::size_t tris = d.triangle_count();
+    Bvh bvh;
+    row("build_dragon", tris, median_ms(3, [&] { bvh = build_bvh(d.positions, d.indices); }));
+    Pcg32 rng(1);
+    for (Vec3& p : d.positions) p += 1e-4f * Vec3(rng.next_float(), rng.next_float(), rng.next_float());
+    row("refit_dragon", tris, median_ms(5, [&] { refit_bvh(bvh, d.positions, d.indices); }));
+    row("rebuild_dragon", tris, median_ms(3, [&] { bvh = build_bvh(d.positions, d.indices); }));
+    for (int n : {1000, 10000}) {
+        std::vector<Bounds3f> boxes(static_cast<std::size_t>(n));
+        for (Bounds3f& b : boxes) {
+            const Vec3 c(rng.next_float() * 100, rng.next_float() * 10, rng.next_float() * 100);
+            b = Bounds3f{c - Vec3(0.5f), c + Vec3(0.5f)};
+        }
+        row(n == 1000 ? "top_level_1k_instances" : "top_level_10k_instances", std::size_t(n),
+            median_ms(5, [&] { bvh = build_bvh(boxes); }));
+    }
+    const double alone = mean_update_ms(*man, 30);
+    const double with_static = mean_update_ms(merge(*dragon, *man), 30);
+    std::size_t man_tris = 0;
+    for (const Mesh& m : man->meshes) man_tris += m.triangle_count();
+    row("update_skinned_alone", man_tris, alone);
+    row("update_skinned_plus_static_dragon", man_tris + tris, with_static);
+    return 0;
+}
