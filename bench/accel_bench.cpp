@@ -36,15 +36,19 @@ void row(const char* what, std::size_t n, double ms) {
 }
 
 SceneModel merge(SceneModel a, const SceneModel& b) {  // b's nodes, meshes and clips appended
-    const int meshes = int(a.meshes.size()), materials = int(a.materials.size()), nodes = int(a.nodes.size());
-    const int textures = int(a.textures.size()), images = int(a.images.size()), skins = int(a.skins.size());
-    for (Image img : b.images) a.images.push_back(std::move(img));
+    const int meshes = int(a.meshes.size()), materials = int(a.materials.size()),
+              nodes = int(a.nodes.size());
+    const int textures = int(a.textures.size()), images = int(a.images.size()),
+              skins = int(a.skins.size());
+    for (Image img : b.images)
+        a.images.push_back(std::move(img));
     for (Texture t : b.textures) {
         if (t.image >= 0) t.image += images;
         a.textures.push_back(t);
     }
     for (Material m : b.materials) {
-        for (TextureRef* r : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.emissive_texture})
+        for (TextureRef* r : {&m.base_color_texture, &m.metallic_roughness_texture,
+                              &m.normal_texture, &m.emissive_texture})
             if (r->texture >= 0) r->texture += textures;
         a.materials.push_back(std::move(m));
     }
@@ -54,17 +58,20 @@ SceneModel merge(SceneModel a, const SceneModel& b) {  // b's nodes, meshes and 
     }
     for (Node n : b.nodes) {
         if (n.parent >= 0) n.parent += nodes;
-        for (int& m : n.meshes) m += meshes;
+        for (int& m : n.meshes)
+            m += meshes;
         if (n.skin >= 0) n.skin += skins;
         n.camera = -1;
         a.nodes.push_back(std::move(n));
     }
     for (Skin s : b.skins) {
-        for (int& j : s.joints) j += nodes;
+        for (int& j : s.joints)
+            j += nodes;
         a.skins.push_back(std::move(s));
     }
     for (AnimationClip c : b.animations) {
-        for (AnimationChannel& ch : c.channels) ch.node += nodes;
+        for (AnimationChannel& ch : c.channels)
+            ch.node += nodes;
         a.animations.push_back(std::move(c));
     }
     flatten_nodes(a);
@@ -94,7 +101,8 @@ int main(int argc, char** argv) {
     auto dragon = load_scene(scenes + "/stanford-dragon/dragon_vrip.ply.gz");
     auto man = load_scene(scenes + "/cesium-man/CesiumMan.gltf");
     if (!dragon || !man) {
-        std::fprintf(stderr, "accel_bench: %s\n", (!dragon ? dragon.error() : man.error()).message.c_str());
+        std::fprintf(stderr, "accel_bench: %s\n",
+                     (!dragon ? dragon.error() : man.error()).message.c_str());
         return 1;
     }
     std::printf("measure,count,median_ms,per_1000_ms\n");
@@ -103,7 +111,8 @@ int main(int argc, char** argv) {
     Bvh bvh;
     row("build_dragon", tris, median_ms(3, [&] { bvh = build_bvh(d.positions, d.indices); }));
     Pcg32 rng(1);
-    for (Vec3& p : d.positions) p += 1e-4f * Vec3(rng.next_float(), rng.next_float(), rng.next_float());
+    for (Vec3& p : d.positions)
+        p += 1e-4f * Vec3(rng.next_float(), rng.next_float(), rng.next_float());
     row("refit_dragon", tris, median_ms(5, [&] { refit_bvh(bvh, d.positions, d.indices); }));
     row("rebuild_dragon", tris, median_ms(3, [&] { bvh = build_bvh(d.positions, d.indices); }));
     for (int n : {1000, 10000}) {
@@ -118,7 +127,8 @@ int main(int argc, char** argv) {
     const double alone = mean_update_ms(*man, 30);
     const double with_static = mean_update_ms(merge(*dragon, *man), 30);
     std::size_t man_tris = 0;
-    for (const Mesh& m : man->meshes) man_tris += m.triangle_count();
+    for (const Mesh& m : man->meshes)
+        man_tris += m.triangle_count();
     row("update_skinned_alone", man_tris, alone);
     row("update_skinned_plus_static_dragon", man_tris + tris, with_static);
     return 0;

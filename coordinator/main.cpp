@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
     app.add_option("--rebuild-factor", o.rebuild_factor,
                    "Rebuild a refitted BVH past this SAH cost ratio")
         ->capture_default_str();
+    app.add_flag("--bvh-nodes", o.bvh_nodes,
+                 "The replica asks for BVH nodes (as OpenCL tracers will): commits carry changed "
+                 "node ranges");
     auto* at = app.add_option("--export-at", export_at,
                               "Export the pose at this time of the clip's own timeline");
     app.add_option("--export", export_path,

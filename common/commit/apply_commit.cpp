@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "common/base/hash.h"
+
 namespace pathfarm {
 namespace {
 
@@ -73,6 +75,13 @@ Status check_op(ShapeView& shapes, const CommitOp& op) {
                 shapes.set(r.id, std::nullopt);
                 return {};
             },
+            [&](const SetMeshBvh& b) -> Status {
+                if (std::size_t(b.first_node) + b.nodes.size() > b.node_count)
+                    return make_error(ErrorCode::invalid_argument,
+                                      "mesh {}: BVH nodes [{}, {}) beyond its {} nodes", b.mesh,
+                                      b.first_node, b.first_node + b.nodes.size(), b.node_count);
+                return {};
+            },
             [&](const AddImage& a) -> Status {
                 if (a.image.rgba.size() !=
                     std::size_t(a.image.width) * std::size_t(a.image.height) * 4)
@@ -110,8 +119,24 @@ void apply_op(SceneState& s, const CommitOp& op) {
             },
             [&](const SetEnvironment& o) { s.environment = o.environment; },
             [&](const SetSettings& o) { s.settings = o.settings; },
+            [](const SetMeshBvh&) {},  // derived data: apply_bvh_op
+            [](const SetTopLevelBvh&) {},
         },
         op);
+}
+
+void apply_bvh_op(DerivedBvh& bvh, const CommitOp& op) {
+    if (const auto* m = std::get_if<SetMeshBvh>(&op)) {
+        BvhData& d = bvh.meshes[m->mesh];
+        d.nodes.resize(m->node_count);
+        std::copy(m->nodes.begin(), m->nodes.end(), d.nodes.begin() + m->first_node);
+        if (!m->prim_indices.empty()) d.prim_indices = m->prim_indices;
+    } else if (const auto* t = std::get_if<SetTopLevelBvh>(&op)) {
+        bvh.top_instances = t->instance_ids;
+        bvh.top = BvhData{t->nodes, t->prim_indices};
+    } else if (const auto* r = std::get_if<RemoveMesh>(&op)) {
+        bvh.meshes.erase(r->id);
+    }
 }
 
 }  // namespace
@@ -129,12 +154,37 @@ Status apply_commit(ReplicaState& replica, const Commit& commit) {
         if (Status st = check_op(shapes, op); !st)
             return make_error(ErrorCode::invalid_argument, "commit {}: {}", commit.frame,
                               st.error().message);
-    if (commit.is_snapshot) replica.scene = SceneState{};
-    for (const CommitOp& op : commit.ops)
+    if (commit.is_snapshot) {
+        replica.scene = SceneState{};
+        replica.bvh = DerivedBvh{};
+    }
+    for (const CommitOp& op : commit.ops) {
         apply_op(replica.scene, op);
+        apply_bvh_op(replica.bvh, op);
+    }
     replica.commit = commit.frame;
     replica.initialised = true;
     return {};
+}
+
+uint64_t bvh_hash(const DerivedBvh& bvh) {
+    uint64_t h = 0xcbf29ce484222325ULL;
+    const auto add = [&](const void* data, std::size_t size) {
+        h = fnv1a64(static_cast<const unsigned char*>(data), size, h);
+    };
+    const auto add_data = [&](const BvhData& d) {
+        const uint64_t sizes[2] = {d.nodes.size(), d.prim_indices.size()};
+        add(sizes, sizeof(sizes));
+        add(d.nodes.data(), d.nodes.size() * sizeof(BvhNode));
+        add(d.prim_indices.data(), d.prim_indices.size() * sizeof(uint32_t));
+    };
+    for (const auto& [id, d] : bvh.meshes) {
+        add(&id, sizeof(id));
+        add_data(d);
+    }
+    add(bvh.top_instances.data(), bvh.top_instances.size() * sizeof(uint32_t));
+    add_data(bvh.top);
+    return h;
 }
 
 Commit make_snapshot(const SceneState& s, uint64_t frame) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/base/result.h"
+#include "common/scene/bvh_node.h"
 #include "common/scene/scene_state.h"
 
 namespace pathfarm {
@@ -70,9 +71,27 @@ struct SetSettings {
     RenderSettings settings;
 };
 
-using CommitOp = std::variant<SetInstance, RemoveInstance, AddMesh, RemoveMesh, UpdateVertexRange,
-                              SetMaterial, RemoveMaterial, AddImage, RemoveImage, SetTexture,
-                              RemoveTexture, SetCamera, SetEnvironment, SetSettings>;
+// Derived data, only for replicas that asked for the coordinator's BVH (OpenCL tracers):
+// nodes [first_node, first_node + nodes.size()) of the mesh's BVH, which has node_count nodes.
+// prim_indices is set (whole) when the topology changed: a build or a rebuild.
+struct SetMeshBvh {
+    uint32_t mesh = 0;
+    uint32_t node_count = 0;
+    uint32_t first_node = 0;
+    std::vector<BvhNode> nodes;
+    std::vector<uint32_t> prim_indices;
+};
+// The whole top level: its primitives are the instances in instance_ids order.
+struct SetTopLevelBvh {
+    std::vector<uint32_t> instance_ids;
+    std::vector<BvhNode> nodes;
+    std::vector<uint32_t> prim_indices;
+};
+
+using CommitOp =
+    std::variant<SetInstance, RemoveInstance, AddMesh, RemoveMesh, UpdateVertexRange, SetMaterial,
+                 RemoveMaterial, AddImage, RemoveImage, SetTexture, RemoveTexture, SetCamera,
+                 SetEnvironment, SetSettings, SetMeshBvh, SetTopLevelBvh>;
 
 // Commit `frame` applies on top of commit `base_commit`. A snapshot (is_snapshot) replaces the
 // whole state and needs no base: it is how a late replica joins.
@@ -83,9 +102,22 @@ struct Commit {
     std::vector<CommitOp> ops;
 };
 
-// A replica of the scene: its state and the commit it holds.
+// BVH data as a replica holds it; derived from the scene, so checked apart from content_hash.
+struct BvhData {
+    std::vector<BvhNode> nodes;
+    std::vector<uint32_t> prim_indices;
+};
+struct DerivedBvh {
+    std::map<uint32_t, BvhData> meshes;  // by mesh id
+    std::vector<uint32_t> top_instances;
+    BvhData top;
+};
+uint64_t bvh_hash(const DerivedBvh& bvh);
+
+// A replica of the scene: its state, the BVH data it asked for, and the commit it holds.
 struct ReplicaState {
     SceneState scene;
+    DerivedBvh bvh;
     uint64_t commit = 0;
     bool initialised = false;  // false until the first snapshot
 };

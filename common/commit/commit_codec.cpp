@@ -228,6 +228,30 @@ void encode_op(const CommitOp& op, pb::CommitOp& out, BlobWriter& blobs) {
                 e->set_turbidity(o.environment.turbidity);
                 e->set_sun_scale(o.environment.sun_scale);
             },
+            [&](const SetMeshBvh& o) {
+                auto* b = out.mutable_set_mesh_bvh();
+                b->set_mesh(o.mesh);
+                b->set_node_count(o.node_count);
+                b->set_first_node(o.first_node);
+                pb::BvhPayload d;
+                d.set_nodes(to_bytes(o.nodes));
+                d.set_prim_indices(to_bytes(o.prim_indices));
+                if (d.ByteSizeLong() > kInlineVertexBytes)
+                    b->set_blob(blobs.add(d));
+                else
+                    *b->mutable_inline_data() = std::move(d);
+            },
+            [&](const SetTopLevelBvh& o) {
+                auto* b = out.mutable_set_top_level_bvh();
+                pb::BvhPayload d;
+                d.set_nodes(to_bytes(o.nodes));
+                d.set_prim_indices(to_bytes(o.prim_indices));
+                d.set_instance_ids(to_bytes(o.instance_ids));
+                if (d.ByteSizeLong() > kInlineVertexBytes)
+                    b->set_blob(blobs.add(d));
+                else
+                    *b->mutable_inline_data() = std::move(d);
+            },
             [&](const SetSettings& o) {
                 auto* s = out.mutable_set_settings()->mutable_settings();
                 s->set_width(o.settings.width);
@@ -385,6 +409,31 @@ bool decode_op(const pb::CommitOp& w, const std::map<uint64_t, std::string>& blo
             o.environment.turbidity = e.turbidity();
             o.environment.sun_scale = e.sun_scale();
             out = o;
+            return true;
+        }
+        case pb::CommitOp::kSetMeshBvh: {
+            const auto& b = w.set_mesh_bvh();
+            pb::BvhPayload d;
+            if (b.blob() != 0 && !parse_blob(blobs, b.blob(), d)) return false;
+            const pb::BvhPayload& payload = b.blob() != 0 ? d : b.inline_data();
+            SetMeshBvh o{b.mesh(), b.node_count(), b.first_node(), {}, {}};
+            if (!from_bytes(payload.nodes(), o.nodes) ||
+                !from_bytes(payload.prim_indices(), o.prim_indices))
+                return false;
+            out = std::move(o);
+            return true;
+        }
+        case pb::CommitOp::kSetTopLevelBvh: {
+            const auto& b = w.set_top_level_bvh();
+            pb::BvhPayload d;
+            if (b.blob() != 0 && !parse_blob(blobs, b.blob(), d)) return false;
+            const pb::BvhPayload& payload = b.blob() != 0 ? d : b.inline_data();
+            SetTopLevelBvh o;
+            if (!from_bytes(payload.nodes(), o.nodes) ||
+                !from_bytes(payload.prim_indices(), o.prim_indices) ||
+                !from_bytes(payload.instance_ids(), o.instance_ids))
+                return false;
+            out = std::move(o);
             return true;
         }
         case pb::CommitOp::kSetSettings: {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "common/math/types.h"
-#include "common/render/bvh_shared.h"
+#include "common/scene/bvh_node.h"
 
 namespace pathfarm::coord {
 

@@ -8,6 +8,7 @@
 #include "common/base/timer.h"
 #include "common/commit/commit_codec.h"
 #include "coordinator/accel/accel_updater.h"
+#include "coordinator/commit/bvh_ops.h"
 #include "coordinator/commit/commit_builder.h"
 #include "coordinator/query/ray_query.h"
 #include "coordinator/scene_graph/scene_graph.h"
@@ -15,9 +16,10 @@
 namespace pathfarm::coord {
 namespace {
 
-// Sends a commit through the codec into the replica and compares content hashes.
+// Sends a commit through the codec into the replica and compares content hashes (and, for a
+// replica that holds BVH data, the BVH hash: derived data is checked separately).
 bool replicate(ReplicaState& replica, const Commit& commit, const SceneState& truth,
-               std::size_t& bytes) {
+               const AccelSnapshot* bvh_truth, std::size_t& bytes) {
     const EncodedCommit wire = encode_commit(commit);
     bytes = wire.total_bytes();
     auto decoded = decode_commit(wire.commit, wire.chunks);
@@ -27,6 +29,10 @@ bool replicate(ReplicaState& replica, const Commit& commit, const SceneState& tr
     }
     if (Status s = apply_commit(replica, *decoded); !s) {
         spdlog::error("frame {}: {}", commit.frame, s.error().message);
+        return false;
+    }
+    if (bvh_truth && bvh_hash(replica.bvh) != bvh_hash(derived_bvh(*bvh_truth))) {
+        spdlog::error("frame {}: replica BVH differs from the coordinator's", commit.frame);
         return false;
     }
     return content_hash(replica.scene) == content_hash(truth);
@@ -77,14 +83,20 @@ Result<std::vector<OfflineFrameStats>> run_offline(SceneModel scene, const Offli
         s.dynamic_tris = graph.dynamic_triangles();
         const ChangeSet changes = graph.take_changes();
         timer.reset();
-        queries.publish(f == 0 ? accel.build(graph.state(), s.frame)
-                               : accel.update(graph.state(), changes, s.frame));
+        const auto previous = accel.current();
+        const auto snapshot = f == 0 ? accel.build(graph.state(), s.frame)
+                                     : accel.update(graph.state(), changes, s.frame);
+        queries.publish(snapshot);
         s.accel_ms = timer.milliseconds();
         timer.reset();
-        const Commit commit = f == 0 ? make_snapshot(graph.state(), s.frame)
-                                     : build_commit(graph.state(), changes, s.frame, s.frame - 1);
+        Commit commit = f == 0 ? make_snapshot(graph.state(), s.frame)
+                               : build_commit(graph.state(), changes, s.frame, s.frame - 1);
+        if (o.bvh_nodes)
+            for (CommitOp& op : build_bvh_ops(f == 0 ? nullptr : previous.get(), *snapshot))
+                commit.ops.push_back(std::move(op));
         s.commit_ms = timer.milliseconds();
-        s.replica_ok = replicate(replica, commit, graph.state(), s.commit_bytes);
+        s.replica_ok = replicate(replica, commit, graph.state(),
+                                 o.bvh_nodes ? snapshot.get() : nullptr, s.commit_bytes);
         csv.row(s);
         stats.push_back(s);
         if (!s.replica_ok)

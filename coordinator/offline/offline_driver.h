@@ -18,6 +18,7 @@ struct OfflineOptions {
     std::optional<int> clip;      // default: the scene's first clip, if any
     std::string stats_csv;        // one row per frame; empty: none
     double rebuild_factor = 1.5;  // BVH rebuild when refit SAH exceeds this times a fresh build
+    bool bvh_nodes = false;       // the replica asked for BVH nodes (as OpenCL tracers do)
 };
 
 struct OfflineFrameStats {
