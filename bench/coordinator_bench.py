@@ -4,13 +4,12 @@ per frame for every animated scene in ../shared/scenes (pathfarm-coordinator --o
 frames at 30 fps, replica checked every frame). Writes CSV and PNG plots under bench/results."""
 import argparse
 import csv
-import io
 import os
 import subprocess
-import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = os.environ.get("PATHFARM_SCENES", os.path.join(ROOT, "..", "shared", "scenes"))
+from bench_common import ROOT, SCENES, write_csv
+from bench_common import run as run_tool
+
 ANIMATED = ["animated-triangle/AnimatedTriangle.gltf", "animated-cube/AnimatedCube.gltf",
             "box-animated/BoxAnimated.gltf", "interpolation-test/InterpolationTest.gltf",
             "animated-morph-cube/AnimatedMorphCube.gltf", "simple-skin/SimpleSkin.gltf",
@@ -19,10 +18,7 @@ ANIMATED = ["animated-triangle/AnimatedTriangle.gltf", "animated-cube/AnimatedCu
 
 
 def run(cmd):
-    out = subprocess.run(cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"coordinator_bench: {' '.join(cmd)} failed:\n{out.stderr[-2000:]}")
-    return out.stdout
+    return run_tool(cmd, "coordinator_bench", with_stderr=False)
 
 
 def commit_bytes(coordinator, out_dir, frames):
@@ -44,15 +40,8 @@ def commit_bytes(coordinator, out_dir, frames):
                      all(r["replica_ok"] == "1" for r in data)])
     header = ["scene", "snapshot_bytes", "mean_commit_bytes_per_frame", "max_commit_bytes",
               "animate_ms", "accel_ms", "dynamic_tris", "replica_ok_all_frames"]
-    write(os.path.join(out_dir, "commit_bytes.csv"), header, rows)
+    write_csv(os.path.join(out_dir, "commit_bytes.csv"), header, rows)
     return header, rows
-
-
-def write(path, header, rows):
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        w.writerows(rows)
 
 
 def plot(out_dir):

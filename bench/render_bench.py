@@ -5,7 +5,6 @@ one run and summarised as medians and ratios; and, paired with error, the time p
 to reach RMSE 0.02 against a converged reference of builtin:cornell, per direct-light
 estimator (MIS, light sampling only, BSDF sampling only). Writes CSV files and gnuplot PNGs."""
 import argparse
-import csv
 import math
 import os
 import re
@@ -13,8 +12,13 @@ import statistics
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = os.environ.get("PATHFARM_SCENES", os.path.join(ROOT, "..", "shared", "scenes"))
+from bench_common import ROOT, SCENES, write_csv
+from bench_common import run as run_tool
+
+
+def run(cmd):
+    return run_tool(cmd, "render_bench")
+
 
 # name, file, look-from, look-at, vertical fov (degrees)
 VIEWS = [
@@ -23,13 +27,6 @@ VIEWS = [
     ("conference", "conference/conference.obj.gz", (1500, 500, 500), (0, 100, -500), 60),
 ]
 WIDTH, HEIGHT, MAX_DEPTH = 640, 360, 8
-
-
-def run(cmd):
-    out = subprocess.run(cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"render_bench: {' '.join(cmd)} failed:\n{out.stderr[-2000:]}")
-    return out.stdout + out.stderr
 
 
 def pathfarm(render, scene, extra):
@@ -130,13 +127,6 @@ def time_to_error(render, ref_spp, max_log2, out_dir, cache_dir, size=256, targe
               ["scene", "variant", "spp", "seconds", "rmse", "rel_mse", "efficiency"], rows)
     write_csv(os.path.join(out_dir, "time_to_rmse.csv"), ["variant", "seconds_to_rmse_0.02", "spp_reached"], reached)
     return reached
-
-
-def write_csv(path, header, rows):
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        w.writerows(rows)
 
 
 def plot(out_dir):

@@ -9,17 +9,11 @@
 #include "common/scene/load/scene_loader.h"
 #include "coordinator/commit/commit_builder.h"
 #include "coordinator/scene_graph/scene_graph.h"
+#include "tests/support/commit_wire.h"
 #include "tests/support/test_env.h"
 
 namespace pathfarm::coord {
 namespace {
-
-Commit through_wire(const Commit& c) {
-    const EncodedCommit e = encode_commit(c, 16384);
-    auto d = decode_commit(e.commit, e.chunks);
-    EXPECT_TRUE(d.ok());
-    return d.ok() ? *d : Commit{};
-}
 
 TEST(BvhOps, ReplicaHoldsTheCoordinatorsBvhEveryFrame) {
     PF_REQUIRE_SCENES(scenes);
@@ -32,7 +26,7 @@ TEST(BvhOps, ReplicaHoldsTheCoordinatorsBvhEveryFrame) {
     for (CommitOp& op : build_bvh_ops(nullptr, *snap))
         first.ops.push_back(std::move(op));
     ReplicaState replica;
-    ASSERT_TRUE(apply_commit(replica, through_wire(first)).ok());
+    ASSERT_TRUE(apply_commit(replica, test::through_wire(first)).ok());
     EXPECT_EQ(bvh_hash(replica.bvh), bvh_hash(derived_bvh(*snap)));
     for (uint64_t f = 1; f <= 15; ++f) {
         graph.advance(double(f) / 10.0);
@@ -44,7 +38,7 @@ TEST(BvhOps, ReplicaHoldsTheCoordinatorsBvhEveryFrame) {
         EXPECT_FALSE(bvh_ops.empty()) << "the skinned mesh's BVH is refitted every frame";
         for (const CommitOp& op : bvh_ops)
             c.ops.push_back(op);
-        ASSERT_TRUE(apply_commit(replica, through_wire(c)).ok());
+        ASSERT_TRUE(apply_commit(replica, test::through_wire(c)).ok());
         ASSERT_EQ(bvh_hash(replica.bvh), bvh_hash(derived_bvh(*snap))) << "frame " << f;
         ASSERT_EQ(content_hash(replica.scene), content_hash(graph.state()));
     }

@@ -11,16 +11,10 @@
 #include "common/scene/load/procedural_mesh.h"
 #include "coordinator/commit/commit_builder.h"
 #include "coordinator/scene_graph/scene_graph.h"
+#include "tests/support/commit_wire.h"
 
 namespace pathfarm::coord {
 namespace {
-
-Commit through_wire(const Commit& c) {
-    const EncodedCommit e = encode_commit(c, 4096);  // small chunks: exercise reassembly
-    auto d = decode_commit(e.commit, e.chunks);
-    EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().message);
-    return d.ok() ? *d : Commit{};
-}
 
 template <typename Set>
 uint32_t pick(Pcg32& rng, const Set& ids) {
@@ -120,7 +114,7 @@ void random_edit(SceneGraph& g, Pcg32& rng, std::vector<uint32_t>& nodes) {
 TEST(ReplicaEquality, ThousandRandomEditSequences) {
     SceneGraph graph(make_cornell_box());
     ReplicaState replica;
-    ASSERT_TRUE(apply_commit(replica, through_wire(make_snapshot(graph.state(), 0))).ok());
+    ASSERT_TRUE(apply_commit(replica, test::through_wire(make_snapshot(graph.state(), 0))).ok());
     ASSERT_EQ(content_hash(replica.scene), content_hash(graph.state()));
     Pcg32 rng(2024);
     std::vector<uint32_t> nodes;
@@ -131,13 +125,14 @@ TEST(ReplicaEquality, ThousandRandomEditSequences) {
             random_edit(graph, rng, nodes);
         graph.advance(double(frame) / 30.0);
         const Commit commit = build_commit(graph.state(), graph.take_changes(), frame, frame - 1);
-        const Status applied = apply_commit(replica, through_wire(commit));
+        const Status applied = apply_commit(replica, test::through_wire(commit));
         ASSERT_TRUE(applied.ok()) << "frame " << frame << ": " << applied.error().message;
         ASSERT_EQ(content_hash(replica.scene), content_hash(graph.state())) << "frame " << frame;
         distinct.insert(content_hash(replica.scene));
         if (frame % 250 == 0) {  // a tracer joining late: snapshot, then commits
             ReplicaState late;
-            ASSERT_TRUE(apply_commit(late, through_wire(make_snapshot(graph.state(), frame))).ok());
+            ASSERT_TRUE(
+                apply_commit(late, test::through_wire(make_snapshot(graph.state(), frame))).ok());
             EXPECT_EQ(content_hash(late.scene), content_hash(graph.state()));
         }
     }

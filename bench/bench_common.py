@@ -1,0 +1,23 @@
+"""Helpers shared by the benchmark scripts: running a tool and writing CSV."""
+import csv
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCENES = os.environ.get("PATHFARM_SCENES", os.path.join(ROOT, "..", "shared", "scenes"))
+
+
+def run(cmd, who, with_stderr=True):
+    """Runs cmd; exits with its stderr tail when it fails. Returns stdout (+ stderr)."""
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"{who}: {' '.join(cmd)} failed:\n{out.stderr[-2000:]}")
+    return out.stdout + (out.stderr if with_stderr else "")
+
+
+def write_csv(path, header, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
