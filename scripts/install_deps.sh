@@ -8,7 +8,7 @@ PACKAGES=(
   libopenimageio-dev libembree-dev embree-tools
   libtinygltf-dev libtinyobjloader-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libasio-dev libprotobuf-dev protobuf-compiler
+  libasio-dev libprotobuf-dev protobuf-compiler libssl-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   gnuplot-nox
 )

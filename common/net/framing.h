@@ -1,0 +1,27 @@
+// Message framing: a 4-byte big-endian length, then the serialised Envelope. The length is
+// checked against a hard maximum per connection role before anything is allocated.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "common/base/result.h"
+
+namespace pathfarm::net {
+
+inline constexpr uint32_t kProtocolVersion = 1;
+inline constexpr std::size_t kFrameHeaderBytes = 4;
+// What a coordinator accepts from tracers (tiles of a whole frame at 4K stay far below) and
+// from clients (input only); what peers accept from the coordinator (commit chunks, frames).
+inline constexpr uint32_t kMaxFromTracerBytes = 64u << 20;
+inline constexpr uint32_t kMaxFromClientBytes = 64u << 10;
+inline constexpr uint32_t kMaxFromCoordinatorBytes = 128u << 20;
+
+void write_frame_header(uint32_t payload_bytes, unsigned char out[kFrameHeaderBytes]);
+// The payload length, or an error when it is 0 or exceeds max_bytes.
+Result<uint32_t> read_frame_header(const unsigned char in[kFrameHeaderBytes], uint32_t max_bytes);
+// Header + payload in one buffer, ready to write.
+std::string frame(std::string_view payload);
+
+}  // namespace pathfarm::net

@@ -1,0 +1,418 @@
+// Asio C++20-coroutine sessions: handshake, a reader, a writer draining a send queue, and a
+// deadline on every read. All socket work runs on the NetService's single network thread.
+#include "common/net/session.h"
+
+#include <atomic>
+#include <deque>
+#include <future>
+#include <optional>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+#include <asio.hpp>
+
+#include "common/net/auth.h"
+#include "common/net/framing.h"
+#include "pathfarm/wire/v1/envelope.pb.h"
+
+namespace pathfarm::net {
+namespace {
+
+namespace pb = ::pathfarm::wire::v1;
+using asio::awaitable;
+using asio::use_awaitable;
+using asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+
+struct Rejection {  // thrown inside coroutines when a peer broke the protocol
+    ProtocolError code;
+    std::string message;
+};
+
+pb::Role to_wire(PeerRole r) { return r == PeerRole::tracer ? pb::ROLE_TRACER : pb::ROLE_CLIENT; }
+
+std::string serialise(pb::Envelope& e) {
+    e.set_version(kProtocolVersion);
+    return e.SerializeAsString();
+}
+
+std::string error_envelope(ProtocolError code, const std::string& message) {
+    pb::Envelope e;
+    e.mutable_error()->set_code(pb::ErrorCode(int(code)));
+    e.mutable_error()->set_message(message);
+    return serialise(e);
+}
+
+pb::Envelope parse_envelope(const std::string& bytes) {
+    pb::Envelope e;
+    if (!e.ParseFromString(bytes)) throw Rejection{ProtocolError::malformed, "malformed envelope"};
+    if (e.version() != kProtocolVersion)
+        throw Rejection{ProtocolError::bad_version, fmt::format("protocol version {} (expected {})",
+                                                                e.version(), kProtocolVersion)};
+    return e;
+}
+
+class AsioSession final : public Session, public std::enable_shared_from_this<AsioSession> {
+public:
+    AsioSession(tcp::socket socket, uint32_t max_bytes, PeerInfo peer)
+        : socket_(std::move(socket)),
+          wake_(socket_.get_executor()),
+          deadline_(socket_.get_executor()),
+          max_bytes_(max_bytes),
+          peer_(std::move(peer)) {
+        wake_.expires_at(Clock::time_point::max());
+    }
+
+    void send(std::string envelope) override {
+        asio::post(socket_.get_executor(),
+                   [self = shared_from_this(), bytes = frame(envelope)]() mutable {
+                       if (!self->open_ || self->closing_) return;
+                       self->queue_.push_back(std::move(bytes));
+                       self->wake_.cancel_one();
+                   });
+    }
+    void reject(ProtocolError code, std::string message) override {
+        asio::post(socket_.get_executor(),
+                   [self = shared_from_this(), code, message = std::move(message)] {
+                       self->reject_now(code, message);
+                   });
+    }
+    void close(std::string reason) override {
+        asio::post(socket_.get_executor(), [self = shared_from_this(), reason = std::move(reason)] {
+            self->close_now(reason);
+        });
+    }
+    bool open() const override { return open_; }
+    const PeerInfo& peer() const override { return peer_; }
+    PeerInfo& mutable_peer() { return peer_; }
+
+    // Reads one framed message within `timeout` (Clock::duration::max(): no deadline).
+    awaitable<std::string> read_message(Clock::duration timeout) {
+        timed_out_ = false;
+        if (timeout != Clock::duration::max()) {
+            deadline_.expires_after(timeout);
+            deadline_.async_wait([weak = weak_from_this()](const asio::error_code& ec) {
+                if (auto self = weak.lock(); self && !ec) {
+                    self->timed_out_ = true;
+                    asio::error_code ignored;
+                    self->socket_.cancel(ignored);
+                }
+            });
+        }
+        try {
+            unsigned char header[kFrameHeaderBytes];
+            co_await asio::async_read(socket_, asio::buffer(header), use_awaitable);
+            auto size = read_frame_header(header, max_bytes_);
+            if (!size) {
+                deadline_.cancel();
+                throw Rejection{ProtocolError::oversized, size.error().message};
+            }
+            std::string body(*size, '\0');
+            co_await asio::async_read(socket_, asio::buffer(body), use_awaitable);
+            deadline_.cancel();
+            co_return body;
+        } catch (const asio::system_error&) {
+            deadline_.cancel();
+            if (timed_out_)
+                throw Rejection{ProtocolError::timeout, "no message within the deadline"};
+            throw;
+        }
+    }
+
+    awaitable<void> write_now(const std::string& envelope) {
+        const std::string bytes = frame(envelope);
+        co_await asio::async_write(socket_, asio::buffer(bytes), use_awaitable);
+    }
+
+    // After the handshake: deliver messages to on_message until the peer leaves or misbehaves.
+    void start() {
+        open_ = true;
+        asio::co_spawn(socket_.get_executor(), reader(shared_from_this()), asio::detached);
+        asio::co_spawn(socket_.get_executor(), writer(shared_from_this()), asio::detached);
+    }
+
+    void reject_now(ProtocolError code, const std::string& message) {
+        if (!open_ || closing_) return;
+        spdlog::warn("{} {}: {}; disconnecting", role_name(peer_.role), peer_.address, message);
+        queue_.push_back(frame(error_envelope(code, message)));
+        closing_ = true;
+        close_reason_ = message;
+        wake_.cancel_one();
+    }
+
+    void close_now(const std::string& reason) {
+        if (closed_) return;
+        closed_ = true;
+        open_ = false;
+        asio::error_code ignored;
+        socket_.shutdown(tcp::socket::shutdown_both, ignored);
+        socket_.close(ignored);
+        wake_.cancel();
+        deadline_.cancel();
+        if (on_closed) on_closed(reason);
+        on_message = nullptr;  // break cycles through captured session pointers
+        on_closed = nullptr;
+    }
+
+private:
+    static awaitable<void> reader(std::shared_ptr<AsioSession> self) {
+        try {
+            for (;;) {
+                std::string message = co_await self->read_message(Clock::duration::max());
+                if (!self->open_ || self->closing_) co_return;
+                if (self->on_message) self->on_message(std::move(message));
+            }
+        } catch (const Rejection& r) {
+            self->reject_now(r.code, r.message);
+        } catch (const std::exception& e) {
+            self->close_now(self->closing_ ? self->close_reason_
+                                           : std::string("connection lost: ") + e.what());
+        }
+    }
+
+    static awaitable<void> writer(std::shared_ptr<AsioSession> self) {
+        try {
+            while (!self->closed_) {
+                if (self->queue_.empty()) {
+                    if (self->closing_) break;
+                    asio::error_code ec;
+                    co_await self->wake_.async_wait(asio::redirect_error(use_awaitable, ec));
+                    continue;
+                }
+                const std::string bytes = std::move(self->queue_.front());
+                self->queue_.pop_front();
+                co_await asio::async_write(self->socket_, asio::buffer(bytes), use_awaitable);
+            }
+        } catch (const std::exception& e) {
+            self->close_now(std::string("write failed: ") + e.what());
+            co_return;
+        }
+        self->close_now(self->close_reason_.empty() ? "closed" : self->close_reason_);
+    }
+
+    tcp::socket socket_;
+    asio::steady_timer wake_;      // wakes the writer when the queue fills
+    asio::steady_timer deadline_;  // bounds each read
+    uint32_t max_bytes_;
+    PeerInfo peer_;
+    std::deque<std::string> queue_;
+    std::atomic<bool> open_{false};
+    bool closing_ = false, closed_ = false, timed_out_ = false;
+    std::string close_reason_;
+};
+
+PeerInfo peer_from_hello(const pb::Hello& h, const std::string& address) {
+    PeerInfo p;
+    p.role = h.role() == pb::ROLE_CLIENT ? PeerRole::client : PeerRole::tracer;
+    p.name = h.name();
+    p.backend = h.capabilities().backend();
+    p.threads = h.capabilities().threads();
+    p.wants_bvh_nodes = h.capabilities().wants_bvh_nodes();
+    for (int c : h.capabilities().codecs())
+        p.codecs.push_back(c);
+    p.address = address;
+    return p;
+}
+
+std::string remote_address(const tcp::socket& s) {
+    asio::error_code ec;
+    const auto ep = s.remote_endpoint(ec);
+    return ec ? std::string("?") : ep.address().to_string() + ":" + std::to_string(ep.port());
+}
+
+}  // namespace
+
+const char* role_name(PeerRole role) { return role == PeerRole::tracer ? "tracer" : "client"; }
+
+struct NetService::Impl {
+    asio::io_context io;
+    asio::executor_work_guard<asio::io_context::executor_type> work{io.get_executor()};
+    std::vector<std::shared_ptr<tcp::acceptor>> acceptors;
+    std::atomic<uint64_t> next_session{1};
+    std::thread thread;
+
+    static awaitable<void> serve(std::shared_ptr<AsioSession> s, ServerConfig config, uint64_t id,
+                                 std::function<void(std::shared_ptr<Session>)> on_session) {
+        std::optional<Rejection> rejection;
+        try {
+            const pb::Envelope hello =
+                parse_envelope(co_await s->read_message(config.handshake_timeout));
+            if (!hello.has_hello())
+                throw Rejection{ProtocolError::out_of_order, "expected Hello first"};
+            PeerInfo& peer = s->mutable_peer();
+            peer = peer_from_hello(hello.hello(), peer.address);
+            peer.session_id = id;
+            if (hello.hello().client_nonce().size() != kNonceBytes)
+                throw Rejection{ProtocolError::malformed, "bad nonce"};
+            if (std::find(config.roles.begin(), config.roles.end(), peer.role) ==
+                config.roles.end())
+                throw Rejection{
+                    ProtocolError::wrong_role,
+                    fmt::format("role {} not served on this port", role_name(peer.role))};
+            const std::string server_nonce = make_nonce();
+            pb::Envelope challenge;
+            challenge.mutable_challenge()->set_server_nonce(server_nonce);
+            co_await s->write_now(serialise(challenge));
+            const pb::Envelope proof =
+                parse_envelope(co_await s->read_message(config.handshake_timeout));
+            if (!proof.has_proof())
+                throw Rejection{ProtocolError::out_of_order, "expected AuthProof"};
+            const std::string& cn = hello.hello().client_nonce();
+            if (!macs_equal(proof.proof().mac(),
+                            client_mac(config.secret, role_name(peer.role), cn, server_nonce)))
+                throw Rejection{ProtocolError::unauthenticated, "authentication failed"};
+            pb::Envelope welcome;
+            welcome.mutable_welcome()->set_session_id(id);
+            welcome.mutable_welcome()->set_server_mac(server_mac(config.secret, cn, server_nonce));
+            co_await s->write_now(serialise(welcome));
+            spdlog::info("{} \"{}\" connected from {}", role_name(peer.role), peer.name,
+                         peer.address);
+            on_session(s);  // handlers are set before the reader delivers anything
+            s->start();
+        } catch (const Rejection& r) {
+            rejection = r;
+        } catch (const std::exception& e) {
+            s->close_now(std::string("handshake failed: ") + e.what());
+            co_return;
+        }
+        if (!rejection) co_return;
+        spdlog::warn("peer {}: {}; disconnecting", s->peer().address, rejection->message);
+        try {  // tell the peer why, then close; a peer that vanished does not matter here
+            co_await s->write_now(error_envelope(rejection->code, rejection->message));
+        } catch (const std::exception&) {
+        }
+        s->close_now(rejection->message);
+    }
+
+    static awaitable<void> accept_loop(Impl* impl, std::shared_ptr<tcp::acceptor> acceptor,
+                                       ServerConfig config,
+                                       std::function<void(std::shared_ptr<Session>)> on_session) {
+        for (;;) {
+            asio::error_code ec;
+            tcp::socket socket =
+                co_await acceptor->async_accept(asio::redirect_error(use_awaitable, ec));
+            if (ec) {
+                if (ec == asio::error::operation_aborted || !acceptor->is_open()) co_return;
+                continue;
+            }
+            socket.set_option(tcp::no_delay(true), ec);
+            PeerInfo peer;
+            peer.address = remote_address(socket);
+            auto s =
+                std::make_shared<AsioSession>(std::move(socket), config.max_message_bytes, peer);
+            asio::co_spawn(impl->io, serve(s, config, impl->next_session++, on_session),
+                           asio::detached);
+        }
+    }
+
+    static awaitable<void> dial(Impl* impl, ClientConfig config,
+                                std::function<void(Result<std::shared_ptr<Session>>)> done) {
+        std::shared_ptr<AsioSession> s;
+        try {
+            tcp::resolver resolver(impl->io);
+            const auto endpoints = co_await resolver.async_resolve(
+                config.host, std::to_string(config.port), use_awaitable);
+            tcp::socket socket(impl->io);
+            co_await asio::async_connect(socket, endpoints, use_awaitable);
+            socket.set_option(tcp::no_delay(true));
+            PeerInfo server;
+            server.address = remote_address(socket);
+            server.role = config.hello.role;
+            s = std::make_shared<AsioSession>(std::move(socket), config.max_message_bytes, server);
+            const std::string cn = make_nonce();
+            pb::Envelope hello;
+            auto* h = hello.mutable_hello();
+            h->set_role(to_wire(config.hello.role));
+            h->set_name(config.hello.name);
+            h->mutable_capabilities()->set_backend(config.hello.backend);
+            h->mutable_capabilities()->set_threads(config.hello.threads);
+            h->mutable_capabilities()->set_wants_bvh_nodes(config.hello.wants_bvh_nodes);
+            for (int c : config.hello.codecs)
+                h->mutable_capabilities()->add_codecs(pb::FrameCodec(c));
+            h->set_client_nonce(cn);
+            co_await s->write_now(serialise(hello));
+            const pb::Envelope challenge =
+                parse_envelope(co_await s->read_message(config.handshake_timeout));
+            if (challenge.has_error())
+                throw std::runtime_error("refused: " + challenge.error().message());
+            if (!challenge.has_challenge())
+                throw std::runtime_error("server did not send a challenge");
+            pb::Envelope proof;
+            proof.mutable_proof()->set_mac(client_mac(config.secret, role_name(config.hello.role),
+                                                      cn, challenge.challenge().server_nonce()));
+            co_await s->write_now(serialise(proof));
+            const pb::Envelope welcome =
+                parse_envelope(co_await s->read_message(config.handshake_timeout));
+            if (welcome.has_error())
+                throw std::runtime_error("refused: " + welcome.error().message());
+            if (!welcome.has_welcome() ||
+                !macs_equal(welcome.welcome().server_mac(),
+                            server_mac(config.secret, cn, challenge.challenge().server_nonce())))
+                throw std::runtime_error("the server failed to authenticate (wrong secret?)");
+            s->mutable_peer().session_id = welcome.welcome().session_id();
+            done(std::shared_ptr<Session>(s));
+            s->start();
+        } catch (const Rejection& r) {
+            if (s) s->close_now(r.message);
+            done(make_error(ErrorCode::io_error, "{}:{}: {}", config.host, config.port, r.message));
+        } catch (const std::exception& e) {
+            if (s) s->close_now(e.what());
+            done(make_error(ErrorCode::io_error, "{}:{}: {}", config.host, config.port, e.what()));
+        }
+    }
+};
+
+NetService::NetService() : impl_(std::make_unique<Impl>()) {
+    impl_->thread = std::thread([impl = impl_.get()] { impl->io.run(); });
+}
+
+NetService::~NetService() {
+    asio::post(impl_->io, [impl = impl_.get()] {
+        for (auto& a : impl->acceptors) {
+            asio::error_code ignored;
+            a->close(ignored);
+        }
+    });
+    impl_->work.reset();
+    impl_->io.stop();
+    if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+Result<uint16_t> NetService::listen(const ServerConfig& config,
+                                    std::function<void(std::shared_ptr<Session>)> on_session) {
+    try {
+        auto acceptor = std::make_shared<tcp::acceptor>(impl_->io);
+        const tcp::endpoint ep(asio::ip::make_address(config.bind_address), config.port);
+        acceptor->open(ep.protocol());
+        acceptor->set_option(tcp::acceptor::reuse_address(true));
+        acceptor->bind(ep);
+        acceptor->listen();
+        const uint16_t port = acceptor->local_endpoint().port();
+        asio::post(impl_->io,
+                   [impl = impl_.get(), acceptor] { impl->acceptors.push_back(acceptor); });
+        asio::co_spawn(impl_->io,
+                       Impl::accept_loop(impl_.get(), acceptor, config, std::move(on_session)),
+                       asio::detached);
+        return port;
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::io_error, "listen on {}:{}: {}", config.bind_address,
+                          config.port, e.what());
+    }
+}
+
+void NetService::connect(const ClientConfig& config,
+                         std::function<void(Result<std::shared_ptr<Session>>)> done) {
+    asio::co_spawn(impl_->io, Impl::dial(impl_.get(), config, std::move(done)), asio::detached);
+}
+
+Result<std::shared_ptr<Session>> NetService::connect_sync(const ClientConfig& config) {
+    auto promise = std::make_shared<std::promise<Result<std::shared_ptr<Session>>>>();
+    auto future = promise->get_future();
+    connect(config,
+            [promise](Result<std::shared_ptr<Session>> r) { promise->set_value(std::move(r)); });
+    return future.get();
+}
+
+void NetService::post(std::function<void()> task) { asio::post(impl_->io, std::move(task)); }
+
+}  // namespace pathfarm::net

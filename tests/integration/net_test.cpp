@@ -1,0 +1,272 @@
+// Sessions on loopback: the handshake authenticates both ways, messages flow, and a peer that
+// is malformed, oversized, out of order, on the wrong version, unauthenticated or silent gets
+// an Error and is disconnected while an established session carries on.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <condition_variable>
+#include <mutex>
+
+#include <gtest/gtest.h>
+
+#include "common/net/auth.h"
+#include "common/net/framing.h"
+#include "common/net/session.h"
+#include "pathfarm/wire/v1/envelope.pb.h"
+
+namespace pathfarm::net {
+namespace {
+
+namespace pb = ::pathfarm::wire::v1;
+
+// Collects what server-side sessions receive.
+struct Inbox {
+    std::mutex mutex;
+    std::condition_variable cv;
+    std::vector<std::string> messages;
+    std::vector<std::shared_ptr<Session>> sessions;
+
+    void attach(std::shared_ptr<Session> s) {
+        s->on_message = [this](std::string&& m) {
+            std::lock_guard lock(mutex);
+            messages.push_back(std::move(m));
+            cv.notify_all();
+        };
+        s->on_closed = [](const std::string&) {};
+        std::lock_guard lock(mutex);
+        sessions.push_back(std::move(s));
+        cv.notify_all();
+    }
+    bool wait_messages(std::size_t n) {
+        std::unique_lock lock(mutex);
+        return cv.wait_for(lock, std::chrono::seconds(5), [&] { return messages.size() >= n; });
+    }
+};
+
+std::string envelope_with_input(uint64_t seq) {
+    pb::Envelope e;
+    e.set_version(kProtocolVersion);
+    e.mutable_input()->set_sequence(seq);
+    return e.SerializeAsString();
+}
+
+struct Fixture : ::testing::Test {
+    NetService net;
+    Inbox inbox;
+    uint16_t port = 0;
+    void SetUp() override {
+        ServerConfig config;
+        config.bind_address = "127.0.0.1";
+        config.roles = {PeerRole::tracer};
+        config.secret = "correct horse";
+        config.max_message_bytes = 1 << 16;
+        config.handshake_timeout = std::chrono::milliseconds(300);
+        auto p =
+            net.listen(config, [this](std::shared_ptr<Session> s) { inbox.attach(std::move(s)); });
+        ASSERT_TRUE(p.ok()) << p.error().message;
+        port = *p;
+    }
+    ClientConfig client(const std::string& secret, PeerRole role = PeerRole::tracer) const {
+        ClientConfig c;
+        c.port = port;
+        c.secret = secret;
+        c.hello.role = role;
+        c.hello.name = "test-tracer";
+        c.hello.backend = "embree";
+        c.hello.wants_bvh_nodes = true;
+        return c;
+    }
+};
+
+// A raw TCP peer that speaks bytes, for sending what a well-behaved client never would.
+class RawPeer {
+public:
+    explicit RawPeer(uint16_t port) : fd_(socket(AF_INET, SOCK_STREAM, 0)) {
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(port);
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        timeval tv{3, 0};
+        setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
+        connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0;
+    }
+    ~RawPeer() { ::close(fd_); }
+    bool connected() const { return connected_; }
+    void send_bytes(const std::string& b) { (void)::send(fd_, b.data(), b.size(), MSG_NOSIGNAL); }
+    // Reads one framed envelope; nullopt on close or timeout.
+    std::optional<pb::Envelope> receive() {
+        unsigned char header[4];
+        if (!read_all(header, 4)) return std::nullopt;
+        const uint32_t n = (uint32_t(header[0]) << 24) | (uint32_t(header[1]) << 16) |
+                           (uint32_t(header[2]) << 8) | header[3];
+        std::string body(n, '\0');
+        if (!read_all(body.data(), n)) return std::nullopt;
+        pb::Envelope e;
+        if (!e.ParseFromString(body)) return std::nullopt;
+        return e;
+    }
+    bool closed_by_peer() {
+        char c;
+        return ::recv(fd_, &c, 1, 0) == 0;
+    }
+
+private:
+    bool read_all(void* p, std::size_t n) {
+        auto* c = static_cast<char*>(p);
+        while (n > 0) {
+            const ssize_t r = ::recv(fd_, c, n, 0);
+            if (r <= 0) return false;
+            c += r;
+            n -= std::size_t(r);
+        }
+        return true;
+    }
+    int fd_;
+    bool connected_ = false;
+};
+
+std::string hello_bytes(uint32_t version = kProtocolVersion) {
+    pb::Envelope e;
+    e.set_version(version);
+    e.mutable_hello()->set_role(pb::ROLE_TRACER);
+    e.mutable_hello()->set_client_nonce(make_nonce());
+    return frame(e.SerializeAsString());
+}
+
+void expect_rejected(RawPeer& peer, pb::ErrorCode code) {
+    auto e = peer.receive();
+    ASSERT_TRUE(e.has_value()) << "expected an Error envelope";
+    ASSERT_TRUE(e->has_error());
+    EXPECT_EQ(e->error().code(), code) << e->error().message();
+    EXPECT_TRUE(peer.closed_by_peer());
+}
+
+TEST_F(Fixture, HandshakeAuthenticatesAndMessagesFlow) {
+    auto session = net.connect_sync(client("correct horse"));
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    (*session)->on_message = [](std::string&&) {};
+    (*session)->on_closed = [](const std::string&) {};
+    for (uint64_t i = 0; i < 100; ++i)
+        (*session)->send(envelope_with_input(i));
+    ASSERT_TRUE(inbox.wait_messages(100));
+    pb::Envelope last;
+    ASSERT_TRUE(last.ParseFromString(inbox.messages.back()));
+    EXPECT_EQ(last.input().sequence(), 99u) << "in order";
+    std::lock_guard lock(inbox.mutex);
+    EXPECT_EQ(inbox.sessions.at(0)->peer().name, "test-tracer");
+    EXPECT_TRUE(inbox.sessions.at(0)->peer().wants_bvh_nodes);
+    (*session)->close("done");
+}
+
+TEST_F(Fixture, WrongSecretIsRefusedBothWays) {
+    auto bad = net.connect_sync(client("wrong"));
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("authentication failed"), std::string::npos)
+        << bad.error().message;
+    std::lock_guard lock(inbox.mutex);
+    EXPECT_TRUE(inbox.sessions.empty());
+}
+
+TEST_F(Fixture, WrongRoleIsRefused) {
+    auto bad = net.connect_sync(client("correct horse", PeerRole::client));
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("role client"), std::string::npos) << bad.error().message;
+}
+
+TEST_F(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
+    auto good = net.connect_sync(client("correct horse"));
+    ASSERT_TRUE(good.ok());
+    (*good)->on_message = [](std::string&&) {};
+    (*good)->on_closed = [](const std::string&) {};
+    {
+        RawPeer oversized(port);
+        ASSERT_TRUE(oversized.connected());
+        const unsigned char huge[4] = {0x7f, 0xff, 0xff, 0xff};
+        oversized.send_bytes(std::string(reinterpret_cast<const char*>(huge), 4));
+        expect_rejected(oversized, pb::ERROR_CODE_OVERSIZED);
+    }
+    {
+        RawPeer garbage(port);
+        garbage.send_bytes(frame("\xff\xff\xff\xff not protobuf"));
+        expect_rejected(garbage, pb::ERROR_CODE_MALFORMED);
+    }
+    {
+        RawPeer early(port);
+        pb::Envelope proof;
+        proof.set_version(kProtocolVersion);
+        proof.mutable_proof()->set_mac("guess");
+        early.send_bytes(frame(proof.SerializeAsString()));
+        expect_rejected(early, pb::ERROR_CODE_OUT_OF_ORDER);
+    }
+    {
+        RawPeer old(port);
+        old.send_bytes(hello_bytes(99));
+        expect_rejected(old, pb::ERROR_CODE_BAD_VERSION);
+    }
+    {
+        RawPeer guesser(port);
+        guesser.send_bytes(hello_bytes());
+        auto challenge = guesser.receive();
+        ASSERT_TRUE(challenge && challenge->has_challenge());
+        pb::Envelope proof;
+        proof.set_version(kProtocolVersion);
+        proof.mutable_proof()->set_mac(std::string(32, 'x'));
+        guesser.send_bytes(frame(proof.SerializeAsString()));
+        expect_rejected(guesser, pb::ERROR_CODE_UNAUTHENTICATED);
+    }
+    {
+        RawPeer silent(port);  // says nothing: the handshake deadline closes it
+        expect_rejected(silent, pb::ERROR_CODE_TIMEOUT);
+    }
+    (*good)->send(envelope_with_input(7));
+    ASSERT_TRUE(inbox.wait_messages(1)) << "the established session is unaffected";
+    std::lock_guard lock(inbox.mutex);
+    EXPECT_EQ(inbox.sessions.size(), 1u) << "no abusive peer became a session";
+}
+
+TEST_F(Fixture, OversizedMessageAfterHandshakeClosesOnlyThatSession) {
+    auto a = net.connect_sync(client("correct horse"));
+    auto b = net.connect_sync(client("correct horse"));
+    ASSERT_TRUE(a.ok() && b.ok());
+    for (auto* s : {&*a, &*b}) {
+        (*s)->on_message = [](std::string&&) {};
+        (*s)->on_closed = [](const std::string&) {};
+    }
+    pb::Envelope big;
+    big.set_version(kProtocolVersion);
+    big.mutable_tile()->set_rgb_zstd(std::string(1 << 17, 'z'));  // over the 64 KiB test limit
+    (*a)->send(big.SerializeAsString());
+    (*b)->send(envelope_with_input(1));
+    ASSERT_TRUE(inbox.wait_messages(1));
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    EXPECT_FALSE((*a)->open()) << "the server disconnected the oversized sender";
+    EXPECT_TRUE((*b)->open());
+}
+
+TEST(Framing, HeaderRoundTripAndLimits) {
+    unsigned char h[4];
+    write_frame_header(70000, h);
+    EXPECT_EQ(*read_frame_header(h, 1 << 20), 70000u);
+    EXPECT_FALSE(read_frame_header(h, 1000).ok());
+    write_frame_header(0, h);
+    EXPECT_FALSE(read_frame_header(h, 1000).ok());
+    EXPECT_EQ(frame("abc").size(), 7u);
+}
+
+TEST(Auth, MacsDependOnSecretRoleAndNonces) {
+    const std::string a = make_nonce(), b = make_nonce();
+    EXPECT_NE(a, b);
+    EXPECT_EQ(a.size(), kNonceBytes);
+    const std::string mac = client_mac("s", "tracer", a, b);
+    EXPECT_TRUE(macs_equal(mac, client_mac("s", "tracer", a, b)));
+    EXPECT_FALSE(macs_equal(mac, client_mac("t", "tracer", a, b)));
+    EXPECT_FALSE(macs_equal(mac, client_mac("s", "client", a, b)));
+    EXPECT_FALSE(macs_equal(mac, client_mac("s", "tracer", b, a)));
+    EXPECT_FALSE(macs_equal(mac, server_mac("s", a, b)));
+    EXPECT_FALSE(load_secret("/no/such/secret").ok());
+}
+
+}  // namespace
+}  // namespace pathfarm::net
