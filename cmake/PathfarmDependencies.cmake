@@ -7,6 +7,7 @@ find_package(ZLIB REQUIRED)
 find_package(TinyGLTF CONFIG REQUIRED)
 find_package(tinyobjloader CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
+find_package(zstd CONFIG REQUIRED)
 
 # OpenImageIO's CMake config is broken on Debian 12 (TOOLCHAIN.md pitfall 1): use pkg-config.
 find_package(PkgConfig REQUIRED)

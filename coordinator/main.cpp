@@ -1,5 +1,6 @@
-// pathfarm-coordinator command line: the offline frame loop (--offline) and pose export
-// (--export-at). The network farm arrives with the farm issue.
+// pathfarm-coordinator command line: the farm (--tracer-port), the offline frame loop
+// (--offline) and pose export (--export-at).
+#include <csignal>
 #include <cstdio>
 #include <numeric>
 
@@ -7,17 +8,30 @@
 #include <CLI/CLI.hpp>
 
 #include "common/base/log.h"
+#include "common/net/auth.h"
 #include "common/scene/load/scene_loader.h"
 #include "coordinator/animation/animator.h"
 #include "coordinator/animation/skinning.h"
 #include "coordinator/export/obj_export.h"
 #include "coordinator/offline/offline_driver.h"
+#include "coordinator/session/farm_coordinator.h"
 
 namespace {
+
+std::atomic<bool> g_stop{false};
+void request_stop(int) { g_stop = true; }
 
 int fail(const pathfarm::Error& e) {
     std::fprintf(stderr, "pathfarm-coordinator: %s\n", e.message.c_str());
     return e.code == pathfarm::ErrorCode::invalid_argument ? 2 : 1;
+}
+
+pathfarm::Result<std::optional<int>> clip_index(const pathfarm::SceneModel& scene,
+                                                const std::string& name) {
+    if (name.empty()) return std::optional<int>();
+    auto clip = pathfarm::coord::find_clip(scene, name);
+    if (!clip) return clip.error();
+    return std::optional<int>(*clip);
 }
 
 int export_pose(pathfarm::SceneModel scene, const std::string& clip_name, double at,
@@ -38,61 +52,99 @@ int export_pose(pathfarm::SceneModel scene, const std::string& clip_name, double
 
 int offline(pathfarm::SceneModel scene, const std::string& clip_name,
             pathfarm::coord::OfflineOptions o) {
-    if (!clip_name.empty()) {
-        auto clip = pathfarm::coord::find_clip(scene, clip_name);
-        if (!clip) return fail(clip.error());
-        o.clip = *clip;
-    }
+    auto clip = clip_index(scene, clip_name);
+    if (!clip) return fail(clip.error());
+    o.clip = *clip;
     auto stats = pathfarm::coord::run_offline(std::move(scene), o);
     if (!stats) return fail(stats.error());
-    const auto sum = [&](auto field) {
+    using Stats = pathfarm::coord::OfflineFrameStats;
+    const auto mean = [&](auto field) {
+        const double n = double(std::max<std::size_t>(stats->size() - 1, 1));
         return std::accumulate(stats->begin() + 1, stats->end(), 0.0,
-                               [&](double a, const auto& s) { return a + double(s.*field); });
+                               [&](double a, const Stats& s) { return a + double(s.*field); }) /
+               n;
     };
-    const double n = double(std::max<std::size_t>(stats->size() - 1, 1));
     std::printf(
         "frames=%zu snapshot_bytes=%zu commit_bytes_per_frame=%.0f animate_ms=%.3f accel_ms=%.3f "
-        "commit_ms=%.3f "
-        "replica_ok=1\n",
-        stats->size(), stats->front().commit_bytes,
-        sum(&pathfarm::coord::OfflineFrameStats::commit_bytes) / n,
-        sum(&pathfarm::coord::OfflineFrameStats::animate_ms) / n,
-        sum(&pathfarm::coord::OfflineFrameStats::accel_ms) / n,
-        sum(&pathfarm::coord::OfflineFrameStats::commit_ms) / n);
+        "commit_ms=%.3f replica_ok=1\n",
+        stats->size(), stats->front().commit_bytes, mean(&Stats::commit_bytes),
+        mean(&Stats::animate_ms), mean(&Stats::accel_ms), mean(&Stats::commit_ms));
+    return 0;
+}
+
+int farm(pathfarm::SceneModel scene, const std::string& clip_name, const std::string& secret_file,
+         pathfarm::coord::FarmOptions f) {
+    auto secret = pathfarm::net::load_secret(secret_file);
+    if (!secret) return fail(secret.error());
+    f.secret = *secret;
+    auto clip = clip_index(scene, clip_name);
+    if (!clip) return fail(clip.error());
+    f.clip = *clip;
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+    if (auto s = pathfarm::coord::run_farm(std::move(scene), f, g_stop); !s) return fail(s.error());
     return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string scene_spec, export_path, clip_name, log_level = "info";
-    double export_at = 0.0;
+    std::string scene_spec, export_path, clip_name, secret_file, stats_csv, balancer = "equal",
+                                                                            log_level = "info";
+    double export_at = 0.0, fps = 30.0;
+    int frames = -1;
+    bool offline_mode = false;
     pathfarm::coord::OfflineOptions o;
+    pathfarm::coord::FarmOptions f;
     CLI::App app{
-        "pathfarm-coordinator: scene graph, animation, BVH maintenance and commit buffers"};
+        "pathfarm-coordinator: scene graph, animation, BVH maintenance, commits and the farm"};
     app.add_option("--scene", scene_spec, "Scene file (.gltf .glb .obj .ply) or builtin:NAME")
         ->required();
-    bool offline_mode = false;
-    auto* off = app.add_flag("--offline", offline_mode,
-                             "Run the frame loop without a network, with an in-process replica");
-    app.add_option("--frames", o.frames, "Frames to run (--offline)")->capture_default_str();
-    app.add_option("--fps", o.fps, "Game clock: frame f shows time f / fps")->capture_default_str();
-    app.add_option(
-        "--stats-csv", o.stats_csv,
-        "Per-frame CSV: frame,commit_bytes,animate_ms,accel_ms,commit_ms,dynamic_tris,replica_ok");
+    app.add_option("--frames", frames,
+                   "Frames to run (offline default 60; farm default: until stopped)");
+    app.add_option("--fps", fps, "Game clock: frame f shows time f / fps")->capture_default_str();
+    app.add_option("--clip", clip_name, "Animation clip by name or index (default: the first)");
+    app.add_option("--stats-csv", stats_csv,
+                   "One row per frame (columns differ between farm and --offline)");
+    // The farm.
+    auto* tracer_port =
+        app.add_option("--tracer-port", f.tracer_port, "Run the farm: port for tracers (0: any)");
+    app.add_option("--client-port", f.client_port, "Port for clients (0: any)")
+        ->capture_default_str();
+    app.add_option("--bind", f.bind_address, "Address to listen on")->capture_default_str();
+    app.add_option("--width", f.width, "Frame width")->capture_default_str();
+    app.add_option("--height", f.height, "Frame height")->capture_default_str();
+    app.add_option("--spp", f.spp, "Samples per pixel per frame")->capture_default_str();
+    app.add_option("--seed", f.seed, "Seed of the per-sample random numbers")
+        ->capture_default_str();
+    app.add_option("--max-depth", f.max_depth, "Maximum number of bounces")->capture_default_str();
+    app.add_option("--balancer", balancer, "Row balancing scheme")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"equal"}));
+    app.add_option("--secret-file", secret_file,
+                   "File holding the shared secret (else $PATHFARM_SECRET)");
+    app.add_option("--tracer-stats-csv", f.tracer_stats_csv,
+                   "Per tracer and frame: frame,tracer,first_row,rows,render_ms");
+    app.add_option("--dump-frames", f.dump_frames,
+                   "Folder for every assembled frame as linear float PFM");
+    app.add_option("--deadline-ms", f.deadline_ms, "Re-issue rows still missing after this long")
+        ->capture_default_str();
+    app.add_option("--min-tracers", f.min_tracers, "Tracers to wait for before the first frame")
+        ->capture_default_str();
+    // Offline loop and pose export.
+    app.add_flag("--offline", offline_mode,
+                 "Run the frame loop without a network, with an in-process replica");
     app.add_option("--rebuild-factor", o.rebuild_factor,
-                   "Rebuild a refitted BVH past this SAH cost ratio")
+                   "Rebuild a refitted BVH past this SAH ratio")
         ->capture_default_str();
     app.add_flag("--bvh-nodes", o.bvh_nodes,
-                 "The replica asks for BVH nodes (as OpenCL tracers will): commits carry changed "
-                 "node ranges");
+                 "Offline: the replica asks for BVH nodes, as OpenCL tracers do");
     auto* at = app.add_option("--export-at", export_at,
                               "Export the pose at this time of the clip's own timeline");
     app.add_option("--export", export_path,
                    "OBJ file for --export-at (world-space posed triangles)")
         ->needs(at);
     at->needs("--export");
-    app.add_option("--clip", clip_name, "Animation clip by name or index (default: the first)");
     app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
         ->capture_default_str();
     try {
@@ -101,18 +153,28 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     pathfarm::init_logging("pathfarm-coordinator", log_level);
-    if (export_path.empty() && off->count() == 0) {
-        std::fprintf(stderr,
-                     "pathfarm-coordinator: nothing to do (use --offline or --export-at T --export "
-                     "FILE.obj)\n");
+    const bool farm_mode = tracer_port->count() > 0;
+    if (export_path.empty() && !offline_mode && !farm_mode) {
+        std::fprintf(
+            stderr,
+            "pathfarm-coordinator: nothing to do (use --tracer-port, --offline or --export-at)\n");
         return 2;
     }
     auto scene = pathfarm::load_scene(scene_spec);
     if (!scene) return fail(scene.error());
     if (!export_path.empty()) {
         if (const int rc = export_pose(*scene, clip_name, export_at, export_path);
-            rc != 0 || off->count() == 0)
+            rc != 0 || (!offline_mode && !farm_mode))
             return rc;
     }
+    if (farm_mode) {
+        f.frames = std::max(frames, 0);
+        f.fps = fps;
+        f.stats_csv = stats_csv;
+        return farm(std::move(*scene), clip_name, secret_file, f);
+    }
+    o.frames = frames < 0 ? 60 : frames;
+    o.fps = fps;
+    o.stats_csv = stats_csv;
     return offline(std::move(*scene), clip_name, o);
 }

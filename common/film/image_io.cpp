@@ -76,6 +76,18 @@ Status write_rgb8(const std::string& path, int width, int height, const std::vec
     return write_with_oiio(path, spec, OIIO::TypeDesc::UINT8, rgb.data());
 }
 
+Result<std::vector<uint8_t>> encode_png(int width, int height, const std::vector<uint8_t>& rgb) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput vec(bytes);
+    auto out = OIIO::ImageOutput::create("frame.png");
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    if (!out || !out->set_ioproxy(&vec) || !out->open("frame.png", spec) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close())
+        return make_error(ErrorCode::io_error, "PNG encoding failed: {}",
+                          out ? out->geterror() : OIIO::geterror());
+    return std::vector<uint8_t>(bytes.begin(), bytes.end());
+}
+
 Result<FloatImage> read_image(const std::string& path) {
     if (lower_extension(path) == ".pfm") return read_pfm(path);
     auto in = OIIO::ImageInput::open(path);

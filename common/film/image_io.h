@@ -16,6 +16,9 @@ Status write_image(const std::string& path, const FloatImage& image, float expos
 // Writes already-encoded 8-bit RGB bytes (for contact sheets and previews).
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
+// PNG bytes of 8-bit RGB pixels, encoded in memory (frames streamed to clients).
+Result<std::vector<uint8_t>> encode_png(int width, int height, const std::vector<uint8_t>& rgb);
+
 // Reads any format OIIO knows into linear float RGB (8-bit sRGB files are decoded).
 Result<FloatImage> read_image(const std::string& path);
 

@@ -350,8 +350,10 @@ struct NetService::Impl {
                             server_mac(config.secret, cn, challenge.challenge().server_nonce())))
                 throw std::runtime_error("the server failed to authenticate (wrong secret?)");
             s->mutable_peer().session_id = welcome.welcome().session_id();
-            done(std::shared_ptr<Session>(s));
+            s->on_message = config.on_message;
+            s->on_closed = config.on_closed;
             s->start();
+            done(std::shared_ptr<Session>(s));
         } catch (const Rejection& r) {
             if (s) s->close_now(r.message);
             done(make_error(ErrorCode::io_error, "{}:{}: {}", config.host, config.port, r.message));

@@ -54,7 +54,8 @@ public:
     virtual bool open() const = 0;
     virtual const PeerInfo& peer() const = 0;
 
-    // Called on the network thread. Set both before the on_session / connect callback returns.
+    // Called on the network thread. Servers set them in on_session; clients pass them in
+    // ClientConfig so that nothing the server sends right after the handshake is lost.
     std::function<void(std::string&& envelope)> on_message;
     std::function<void(const std::string& reason)> on_closed;
 };
@@ -73,6 +74,9 @@ struct ClientConfig {
     uint16_t port = 0;
     PeerInfo hello;  // role, name and capabilities to announce
     std::string secret;
+    // Installed on the session before its first message is read (the server may send at once).
+    std::function<void(std::string&& envelope)> on_message;
+    std::function<void(const std::string& reason)> on_closed;
     uint32_t max_message_bytes = 128u << 20;
     std::chrono::milliseconds handshake_timeout{5000};
 };

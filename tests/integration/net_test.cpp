@@ -76,6 +76,8 @@ struct Fixture : ::testing::Test {
         c.hello.name = "test-tracer";
         c.hello.backend = "embree";
         c.hello.wants_bvh_nodes = true;
+        c.on_message = [](std::string&&) {};
+        c.on_closed = [](const std::string&) {};
         return c;
     }
 };
@@ -146,8 +148,6 @@ void expect_rejected(RawPeer& peer, pb::ErrorCode code) {
 TEST_F(Fixture, HandshakeAuthenticatesAndMessagesFlow) {
     auto session = net.connect_sync(client("correct horse"));
     ASSERT_TRUE(session.ok()) << session.error().message;
-    (*session)->on_message = [](std::string&&) {};
-    (*session)->on_closed = [](const std::string&) {};
     for (uint64_t i = 0; i < 100; ++i)
         (*session)->send(envelope_with_input(i));
     ASSERT_TRUE(inbox.wait_messages(100));
@@ -178,8 +178,6 @@ TEST_F(Fixture, WrongRoleIsRefused) {
 TEST_F(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
     auto good = net.connect_sync(client("correct horse"));
     ASSERT_TRUE(good.ok());
-    (*good)->on_message = [](std::string&&) {};
-    (*good)->on_closed = [](const std::string&) {};
     {
         RawPeer oversized(port);
         ASSERT_TRUE(oversized.connected());
@@ -230,10 +228,6 @@ TEST_F(Fixture, OversizedMessageAfterHandshakeClosesOnlyThatSession) {
     auto a = net.connect_sync(client("correct horse"));
     auto b = net.connect_sync(client("correct horse"));
     ASSERT_TRUE(a.ok() && b.ok());
-    for (auto* s : {&*a, &*b}) {
-        (*s)->on_message = [](std::string&&) {};
-        (*s)->on_closed = [](const std::string&) {};
-    }
     pb::Envelope big;
     big.set_version(kProtocolVersion);
     big.mutable_tile()->set_rgb_zstd(std::string(1 << 17, 'z'));  // over the 64 KiB test limit

@@ -66,6 +66,8 @@ Status pose(SceneModel& scene, const RenderToolOptions& o) {
     return {};
 }
 
+constexpr int kProgressBandRows = 32;
+
 // Adds a pass of `pass_spp` samples into the running mean of `done` samples.
 void accumulate(FloatImage& mean, const FloatImage& pass, int done, int pass_spp) {
     const double w = double(pass_spp) / double(done + pass_spp);
@@ -107,21 +109,36 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     SampleCounters counters;
     const Timer timer;
     double last_progress = 0.0;
-    // Passes double in size so progress and time budgets cost little; sample indices continue
-    // across passes, so the result equals a single render of the same total spp.
-    for (int pass_spp = 1; o.seconds > 0.0 ? timer.seconds() < o.seconds : summary.spp < o.spp;
-         pass_spp *= 2) {
-        job.frame.first_sample = summary.spp;
-        job.frame.spp = o.seconds > 0.0 ? pass_spp : std::min(pass_spp, o.spp - summary.spp);
-        auto stats = (*backend)->render_rows(job, pass.rgb.data());
-        if (!stats) return stats.error();
-        accumulate(image, pass, summary.spp, job.frame.spp);
-        summary.spp += job.frame.spp;
-        counters.add(stats->counters);
-        if (timer.seconds() - last_progress > 2.0) {
-            last_progress = timer.seconds();
-            spdlog::info("progress: {} spp in {:.1f} s", summary.spp, last_progress);
+    const auto progress = [&](const std::string& what) {
+        if (timer.seconds() - last_progress < 2.0) return;
+        last_progress = timer.seconds();
+        spdlog::info("progress: {} in {:.1f} s", what, last_progress);
+    };
+    if (o.seconds > 0.0) {
+        // Time budget: passes that double in size; sample indices continue across passes.
+        for (int pass_spp = 1; timer.seconds() < o.seconds; pass_spp *= 2) {
+            job.frame.first_sample = summary.spp;
+            job.frame.spp = pass_spp;
+            auto stats = (*backend)->render_rows(job, pass.rgb.data());
+            if (!stats) return stats.error();
+            accumulate(image, pass, summary.spp, job.frame.spp);
+            summary.spp += job.frame.spp;
+            counters.add(stats->counters);
+            progress(fmt::format("{} spp", summary.spp));
         }
+    } else {
+        // Fixed spp: all samples of a band of rows at once, so the image is bit for bit the
+        // one any farm split renders (docs/determinism.md).
+        job.frame.spp = o.spp;
+        for (int y = 0; y < o.height; y += kProgressBandRows) {
+            job.y0 = y;
+            job.y1 = std::min(o.height, y + kProgressBandRows);
+            auto stats = (*backend)->render_rows(job, image.row(y));
+            if (!stats) return stats.error();
+            counters.add(stats->counters);
+            progress(fmt::format("{} of {} rows", job.y1, o.height));
+        }
+        summary.spp = o.spp;
     }
     summary.seconds = timer.seconds();
     summary.samples_per_second = double(counters.camera_samples) / summary.seconds;

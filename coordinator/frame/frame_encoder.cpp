@@ -1,0 +1,24 @@
+// Frame encoders.
+#include "coordinator/frame/frame_encoder.h"
+
+#include "common/film/float_codec.h"
+#include "common/film/image_io.h"
+#include "common/film/tonemap.h"
+
+namespace pathfarm::coord {
+
+Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec) {
+    if (codec == FrameCodec::float_zstd)
+        return compress_floats(image.rgb.data(), image.rgb.size(), 3);
+    auto png = encode_png(image.width, image.height, tonemap_to_srgb8(image));
+    if (!png) return png.error();
+    return std::string(png->begin(), png->end());
+}
+
+FrameCodec choose_codec(const std::vector<int>& accepted) {
+    for (int c : accepted)
+        if (c == int(FrameCodec::png) || c == int(FrameCodec::float_zstd)) return FrameCodec(c);
+    return FrameCodec::png;
+}
+
+}  // namespace pathfarm::coord

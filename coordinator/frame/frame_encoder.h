@@ -1,0 +1,17 @@
+// Encoding assembled frames for clients: tonemapped PNG, or lossless zstd float32.
+#pragma once
+
+#include <string>
+
+#include "common/base/result.h"
+#include "common/film/film.h"
+
+namespace pathfarm::coord {
+
+enum class FrameCodec : int { png = 1, float_zstd = 2 };  // wire FrameCodec values
+
+Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec);
+// Picks the first codec of a client's list that this coordinator can encode (default PNG).
+FrameCodec choose_codec(const std::vector<int>& accepted);
+
+}  // namespace pathfarm::coord

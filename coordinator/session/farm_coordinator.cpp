@@ -1,0 +1,457 @@
+// The farm frame loop. The network thread only records tiles, inputs and membership under
+// the mutex; this thread advances the game, talks to tracers and assembles frames.
+#include "coordinator/session/farm_coordinator.h"
+
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+
+#include <spdlog/spdlog.h>
+
+#include "common/base/timer.h"
+#include "common/commit/commit_codec.h"
+#include "common/film/float_codec.h"
+#include "common/film/image_io.h"
+#include "common/net/framing.h"
+#include "common/net/session.h"
+#include "coordinator/accel/accel_updater.h"
+#include "coordinator/balance/row_range.h"
+#include "coordinator/commit/bvh_ops.h"
+#include "coordinator/commit/commit_builder.h"
+#include "coordinator/frame/frame_assembler.h"
+#include "coordinator/frame/frame_encoder.h"
+#include "coordinator/scene_graph/scene_graph.h"
+#include "pathfarm/wire/v1/envelope.pb.h"
+
+namespace pathfarm::coord {
+namespace {
+
+namespace pb = ::pathfarm::wire::v1;
+using Clock = std::chrono::steady_clock;
+
+// An Envelope holding an already-serialised message in field `field`: protobuf's encoding of
+// an embedded message is its tag, its length and its bytes, so no re-parse is needed.
+std::string envelope_with(int field, const std::string& message) {
+    pb::Envelope head;
+    head.set_version(net::kProtocolVersion);
+    std::string out = head.SerializeAsString();
+    out.push_back(char((field << 3) | 2));
+    for (std::size_t n = message.size();; n >>= 7) {
+        out.push_back(char((n & 0x7f) | (n >= 0x80 ? 0x80 : 0)));
+        if (n < 0x80) break;
+    }
+    return out + message;
+}
+
+// A commit as the envelopes to send: chunks first, the Commit message last.
+std::vector<std::string> commit_envelopes(const EncodedCommit& e) {
+    std::vector<std::string> out;
+    for (const std::string& c : e.chunks)
+        out.push_back(envelope_with(pb::Envelope::kChunkFieldNumber, c));
+    out.push_back(envelope_with(pb::Envelope::kCommitFieldNumber, e.commit));
+    return out;
+}
+
+struct TracerState {
+    std::shared_ptr<net::Session> session;
+    std::string name;
+    bool wants_bvh = false;
+    std::optional<uint64_t> replica_commit;  // the commit its replica holds once our sends arrive
+    std::vector<RowRange> assigned;          // this frame
+    RowRange first_assignment;
+    double render_ms = 0.0;
+};
+
+struct ClientState {
+    std::shared_ptr<net::Session> session;
+    FrameCodec codec = FrameCodec::png;
+};
+
+// Frame N's commit in both forms (with BVH ops for tracers that asked).
+struct PreparedFrame {
+    uint64_t frame = 0;
+    std::vector<std::string> plain, with_bvh;
+    std::size_t plain_bytes = 0;
+};
+
+class Farm {
+public:
+    Farm(SceneModel scene, const FarmOptions& o) : o_(o), graph_(std::move(scene)) {
+        if (o.clip) graph_.set_playing_clip(*o.clip);
+        RenderSettings s = graph_.state().settings;
+        s.width = o.width;
+        s.height = o.height;
+        s.spp = o.spp;
+        s.max_depth = o.max_depth;
+        s.seed = o.seed;
+        graph_.set_settings(s);
+    }
+
+    Status run(const std::atomic<bool>& stop);
+
+private:
+    // --- network thread
+    void on_tracer(std::shared_ptr<net::Session> s);
+    void on_client(std::shared_ptr<net::Session> s);
+    void on_tile(uint64_t id, const std::string& bytes);
+    void on_tracer_closed(uint64_t id);
+    // --- frame loop (callers hold mutex_ where noted)
+    PreparedFrame prepare(uint64_t frame);
+    void sync_and_assign(const PreparedFrame& p);                       // holds mutex_
+    void reissue(const std::vector<RowRange>& ranges, bool idle_only);  // holds mutex_
+    bool wait_for_frame(const std::atomic<bool>& stop);                 // false: abandoned
+    void assign(uint64_t id, TracerState& t, const RowRange& r);        // holds mutex_
+    void finish_frame(const PreparedFrame& p, double frame_ms);
+
+    FarmOptions o_;
+    SceneGraph graph_;
+    AccelUpdater accel_;
+    std::shared_ptr<const AccelSnapshot> accel_snapshot_;
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::map<uint64_t, TracerState> tracers_;
+    std::map<uint64_t, ClientState> clients_;
+    std::optional<FrameAssembler> assembler_;
+    uint64_t frame_ = 0;
+    std::size_t tile_bytes_ = 0;
+    std::optional<Mat4> pending_camera_;
+    uint64_t last_input_ = 0;
+    std::ofstream stats_, tracer_stats_;
+};
+
+void Farm::on_tracer(std::shared_ptr<net::Session> s) {
+    const uint64_t id = s->peer().session_id;
+    s->on_message = [this, id](std::string&& m) { on_tile(id, m); };
+    s->on_closed = [this, id](const std::string&) { on_tracer_closed(id); };
+    std::lock_guard lock(mutex_);
+    tracers_[id] =
+        TracerState{s, s->peer().name, s->peer().wants_bvh_nodes, std::nullopt, {}, {}, 0.0};
+    cv_.notify_all();
+}
+
+void Farm::on_client(std::shared_ptr<net::Session> s) {
+    const uint64_t id = s->peer().session_id;
+    s->on_message = [this, id, weak = std::weak_ptr<net::Session>(s)](std::string&& m) {
+        pb::Envelope e;
+        if (!e.ParseFromString(m) || !e.has_input()) {
+            if (auto session = weak.lock())
+                session->reject(net::ProtocolError::out_of_order, "clients send InputEvent only");
+            return;
+        }
+        std::lock_guard lock(mutex_);
+        last_input_ = std::max(last_input_, e.input().sequence());
+        if (e.input().camera_to_world().size() == sizeof(Mat4)) {
+            Mat4 m4;
+            std::memcpy(&m4[0][0], e.input().camera_to_world().data(), sizeof(Mat4));
+            pending_camera_ = m4;
+        }
+    };
+    s->on_closed = [this, id](const std::string& reason) {
+        spdlog::info("client {} left: {}", id, reason);
+        std::lock_guard lock(mutex_);
+        clients_.erase(id);
+    };
+    std::lock_guard lock(mutex_);
+    clients_[id] = ClientState{s, choose_codec(s->peer().codecs)};
+}
+
+void Farm::on_tile(uint64_t id, const std::string& bytes) {
+    pb::Envelope e;
+    std::lock_guard lock(mutex_);
+    const auto it = tracers_.find(id);
+    if (it == tracers_.end()) return;
+    if (!e.ParseFromString(bytes) || !e.has_tile()) {
+        it->second.session->reject(net::ProtocolError::out_of_order, "tracers send Tile only");
+        return;
+    }
+    const pb::Tile& t = e.tile();
+    if (!assembler_ || t.frame() != frame_) return;  // a tile of a frame already closed
+    const RowRange range{int(t.y0()), int(t.y1())};
+    const std::size_t floats = std::size_t(std::max(0, range.rows())) * std::size_t(o_.width) * 3;
+    auto rgb = decompress_floats(t.rgb_zstd(), floats);
+    if (range.empty() || range.y1 > o_.height || !rgb) {
+        it->second.session->reject(net::ProtocolError::malformed,
+                                   "tile rows or pixels do not fit the frame");
+        return;
+    }
+    assembler_->add(range, rgb->data());
+    it->second.render_ms += t.render_ms();
+    tile_bytes_ += bytes.size();
+    cv_.notify_all();
+}
+
+void Farm::on_tracer_closed(uint64_t id) {
+    std::lock_guard lock(mutex_);
+    const auto it = tracers_.find(id);
+    if (it == tracers_.end()) return;
+    spdlog::warn("tracer \"{}\" left", it->second.name);
+    const std::vector<RowRange> owned = it->second.assigned;
+    tracers_.erase(it);
+    if (!assembler_) return;
+    std::vector<RowRange> lost;  // its rows that never arrived go to the others now
+    for (const RowRange& r : owned)
+        for (const RowRange& m : assembler_->missing(r))
+            lost.push_back(m);
+    reissue(lost, false);
+    cv_.notify_all();
+}
+
+PreparedFrame Farm::prepare(uint64_t frame) {
+    {
+        std::lock_guard lock(mutex_);  // input takes effect at frame boundaries
+        if (pending_camera_) {
+            Camera cam = graph_.state().cameras.count(graph_.state().active_camera)
+                             ? graph_.state().cameras.at(graph_.state().active_camera)
+                             : Camera{};
+            cam.camera_to_world = *pending_camera_;
+            graph_.set_camera(graph_.state().cameras.empty()
+                                  ? std::nullopt
+                                  : std::optional(graph_.state().active_camera),
+                              cam, true);
+            pending_camera_.reset();
+        }
+    }
+    graph_.advance(double(frame) / o_.fps);  // the fixed game clock (DESIGN.md, "Time")
+    const ChangeSet changes = graph_.take_changes();
+    const auto previous = accel_snapshot_;
+    accel_snapshot_ = frame == 0 ? accel_.build(graph_.state(), frame)
+                                 : accel_.update(graph_.state(), changes, frame);
+    PreparedFrame p;
+    p.frame = frame;
+    Commit commit = build_commit(graph_.state(), changes, frame, frame == 0 ? 0 : frame - 1);
+    const EncodedCommit plain = encode_commit(commit);
+    p.plain_bytes = plain.total_bytes();
+    p.plain = commit_envelopes(plain);
+    for (CommitOp& op : build_bvh_ops(previous.get(), *accel_snapshot_))
+        commit.ops.push_back(std::move(op));
+    p.with_bvh = commit_envelopes(encode_commit(commit));
+    return p;
+}
+
+void Farm::assign(uint64_t id, TracerState& t, const RowRange& r) {
+    pb::Envelope e;
+    e.set_version(net::kProtocolVersion);
+    auto* a = e.mutable_assignment();
+    a->set_frame(frame_);
+    a->set_commit(frame_);
+    a->set_y0(uint32_t(r.y0));
+    a->set_y1(uint32_t(r.y1));
+    a->set_width(uint32_t(o_.width));
+    a->set_height(uint32_t(o_.height));
+    a->set_spp(uint32_t(o_.spp));
+    a->set_seed(o_.seed);
+    a->set_max_depth(uint32_t(o_.max_depth));
+    t.session->send(e.SerializeAsString());
+    t.assigned.push_back(r);
+    spdlog::debug("frame {}: rows [{}, {}) to tracer {} \"{}\"", frame_, r.y0, r.y1, id, t.name);
+}
+
+void Farm::sync_and_assign(const PreparedFrame& p) {
+    std::optional<std::vector<std::string>> snapshot, snapshot_bvh;  // made once, if needed
+    std::vector<uint64_t> synced;
+    for (auto& [id, t] : tracers_) {
+        const bool current = p.frame > 0 && t.replica_commit == p.frame - 1;
+        const std::vector<std::string>* messages = t.wants_bvh ? &p.with_bvh : &p.plain;
+        if (!current) {
+            auto& snap = t.wants_bvh ? snapshot_bvh : snapshot;
+            if (!snap) {
+                Commit c = make_snapshot(graph_.state(), p.frame);
+                if (t.wants_bvh)
+                    for (CommitOp& op : build_bvh_ops(nullptr, *accel_snapshot_))
+                        c.ops.push_back(std::move(op));
+                snap = commit_envelopes(encode_commit(c));
+            }
+            messages = &*snap;
+        }
+        for (const std::string& m : *messages)
+            t.session->send(m);
+        t.replica_commit = p.frame;
+        t.assigned.clear();
+        t.render_ms = 0.0;
+        synced.push_back(id);
+    }
+    const auto ranges = split_rows_equally(o_.height, int(synced.size()));
+    for (std::size_t i = 0; i < synced.size(); ++i) {
+        TracerState& t = tracers_.at(synced[i]);
+        t.first_assignment = ranges[i];
+        if (!ranges[i].empty()) assign(synced[i], t, ranges[i]);
+    }
+}
+
+void Farm::reissue(const std::vector<RowRange>& ranges, bool idle_only) {
+    std::vector<uint64_t> targets;
+    for (auto& [id, t] : tracers_) {
+        if (t.replica_commit != frame_) continue;  // joined mid-frame: no replica of this frame
+        bool idle = true;
+        for (const RowRange& r : t.assigned)
+            idle = idle && assembler_->missing(r).empty();
+        if (idle || !idle_only) targets.push_back(id);
+    }
+    if (targets.empty() && idle_only) return reissue(ranges, false);
+    if (targets.empty()) return;
+    for (const RowRange& range : ranges) {
+        const auto parts = split_range(range, int(targets.size()));
+        for (std::size_t i = 0; i < parts.size(); ++i)
+            if (!parts[i].empty()) assign(targets[i], tracers_.at(targets[i]), parts[i]);
+    }
+}
+
+bool Farm::wait_for_frame(const std::atomic<bool>& stop) {
+    std::unique_lock lock(mutex_);
+    auto deadline = Clock::now() + std::chrono::milliseconds(o_.deadline_ms);
+    while (!assembler_->complete() && !stop) {
+        const bool any_synced = std::any_of(tracers_.begin(), tracers_.end(), [&](const auto& kv) {
+            return kv.second.replica_commit == frame_;
+        });
+        if (!any_synced && !tracers_.empty()) {
+            spdlog::warn(
+                "frame {}: every tracer of this frame left; continuing with the next frame",
+                frame_);
+            return false;
+        }
+        if (cv_.wait_until(lock,
+                           std::min(deadline, Clock::now() + std::chrono::milliseconds(100))) ==
+                std::cv_status::timeout &&
+            Clock::now() >= deadline) {
+            const auto missing = assembler_->missing({0, o_.height});
+            spdlog::warn("frame {}: {} row ranges missed the {} ms deadline; re-issuing", frame_,
+                         missing.size(), o_.deadline_ms);
+            reissue(missing, true);
+            deadline = Clock::now() + std::chrono::milliseconds(o_.deadline_ms);
+        }
+    }
+    return assembler_->complete();
+}
+
+void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
+    std::unique_lock lock(mutex_);
+    const FloatImage image = assembler_->image();
+    double t_max = 0.0, idle = 0.0;
+    int n = 0;
+    for (const auto& [id, t] : tracers_)
+        if (t.replica_commit == frame_ && t.render_ms > 0.0) t_max = std::max(t_max, t.render_ms);
+    for (const auto& [id, t] : tracers_) {
+        if (t.replica_commit != frame_ || t.render_ms <= 0.0) continue;
+        idle += t_max - t.render_ms;
+        ++n;
+        if (tracer_stats_.is_open())
+            tracer_stats_ << frame_ << ',' << t.name << ',' << t.first_assignment.y0 << ','
+                          << t.first_assignment.rows() << ',' << t.render_ms << '\n';
+    }
+    const double idle_pct = n > 0 && t_max > 0.0 ? 100.0 * idle / (n * t_max) : 0.0;
+    if (stats_.is_open())
+        stats_ << frame_ << ',' << tracers_.size() << ',' << frame_ms << ',' << idle_pct << ','
+               << p.plain_bytes << ',' << tile_bytes_ << ',' << o_.spp << '\n';
+    std::map<FrameCodec, std::string> encoded;
+    std::vector<std::pair<std::shared_ptr<net::Session>, FrameCodec>> targets;
+    for (auto& [id, c] : clients_)
+        targets.emplace_back(c.session, c.codec);
+    const uint64_t last_input = last_input_;
+    lock.unlock();
+    for (auto& [session, codec] : targets) {
+        if (!encoded.count(codec)) {
+            auto bytes = encode_frame(image, codec);
+            if (!bytes) {
+                spdlog::error("frame {}: {}", frame_, bytes.error().message);
+                continue;
+            }
+            pb::Envelope e;
+            e.set_version(net::kProtocolVersion);
+            auto* f = e.mutable_frame();
+            f->set_frame(frame_);
+            f->set_width(uint32_t(o_.width));
+            f->set_height(uint32_t(o_.height));
+            f->set_codec(pb::FrameCodec(int(codec)));
+            f->set_data(std::move(*bytes));
+            f->set_last_input_sequence(last_input);
+            encoded[codec] = e.SerializeAsString();
+        }
+        session->send(encoded[codec]);
+    }
+    if (!o_.dump_frames.empty()) {
+        const std::string path = fmt::format("{}/frame_{:06d}.pfm", o_.dump_frames, frame_);
+        if (Status s = write_image(path, image); !s) spdlog::error("{}", s.error().message);
+    }
+}
+
+Status Farm::run(const std::atomic<bool>& stop) {
+    net::NetService net;
+    net::ServerConfig tracer_config{o_.tracer_port,           o_.bind_address,
+                                    {net::PeerRole::tracer},  o_.secret,
+                                    net::kMaxFromTracerBytes, std::chrono::milliseconds(5000)};
+    net::ServerConfig client_config{o_.client_port,           o_.bind_address,
+                                    {net::PeerRole::client},  o_.secret,
+                                    net::kMaxFromClientBytes, std::chrono::milliseconds(5000)};
+    auto tracer_port = net.listen(tracer_config, [this](auto s) { on_tracer(std::move(s)); });
+    if (!tracer_port) return tracer_port.error();
+    auto client_port = net.listen(client_config, [this](auto s) { on_client(std::move(s)); });
+    if (!client_port) return client_port.error();
+    std::printf("listening tracer_port=%u client_port=%u\n", unsigned(*tracer_port),
+                unsigned(*client_port));
+    std::fflush(stdout);
+    if (!o_.stats_csv.empty()) {
+        stats_.open(o_.stats_csv);
+        stats_ << "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp\n";
+    }
+    if (!o_.tracer_stats_csv.empty()) {
+        tracer_stats_.open(o_.tracer_stats_csv);
+        tracer_stats_ << "frame,tracer,first_row,rows,render_ms\n";
+    }
+    if (!o_.dump_frames.empty()) std::filesystem::create_directories(o_.dump_frames);
+    PreparedFrame next = prepare(0);
+    const Timer clock;
+    int completed = 0;
+    for (uint64_t f = 0; (o_.frames == 0 || f < uint64_t(o_.frames)) && !stop; ++f) {
+        {
+            std::unique_lock lock(mutex_);
+            const std::size_t needed = f == 0 ? std::size_t(std::max(1, o_.min_tracers)) : 1;
+            if (tracers_.size() < needed) spdlog::info("waiting for {} tracer(s)", needed);
+            cv_.wait(lock, [&] { return tracers_.size() >= needed || stop; });
+            if (stop) break;
+            frame_ = f;
+            assembler_.emplace(o_.width, o_.height);
+            tile_bytes_ = 0;
+            sync_and_assign(next);
+        }
+        const Timer frame_timer;
+        const PreparedFrame current = std::move(next);
+        next = prepare(f + 1);  // pipelined: frame N+1's commit while frame N renders
+        if (!wait_for_frame(stop)) continue;
+        finish_frame(current, frame_timer.milliseconds());
+        ++completed;
+        if (completed % 30 == 0 || (o_.frames != 0 && f + 1 == uint64_t(o_.frames)))
+            spdlog::info("frame {}: {:.1f} frames/s, {} tracer(s)", f, completed / clock.seconds(),
+                         tracers_.size());
+    }
+    std::printf("frames=%d seconds=%.3f fps=%.2f\n", completed, clock.seconds(),
+                completed / clock.seconds());
+    std::fflush(stdout);
+    // Sessions must not outlive the NetService (and its io_context) declared in this scope.
+    std::map<uint64_t, TracerState> tracers;
+    std::map<uint64_t, ClientState> clients;
+    {
+        std::lock_guard lock(mutex_);
+        tracers.swap(tracers_);
+        clients.swap(clients_);
+    }
+    for (auto& [id, t] : tracers)
+        t.session->close("coordinator finished");
+    for (auto& [id, c] : clients)
+        c.session->close("coordinator finished");
+    return {};
+}
+
+}  // namespace
+
+Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop) {
+    if (options.width <= 0 || options.height <= 0 || options.spp <= 0 || !(options.fps > 0.0) ||
+        options.deadline_ms <= 0)
+        return make_error(ErrorCode::invalid_argument,
+                          "--width/--height/--spp/--fps/--deadline-ms must be positive");
+    Farm farm(std::move(scene), options);
+    return farm.run(stop);
+}
+
+}  // namespace pathfarm::coord

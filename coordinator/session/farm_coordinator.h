@@ -1,0 +1,35 @@
+// The coordinator's network mode (DESIGN.md, "The frame"): tracers join at any time (snapshot,
+// then commits), each frame's rows are split over them in 4-row units, the next frame's
+// commit is prepared while this one renders, rows missing at the deadline (or of a tracer that
+// died) are re-issued, and finished frames go to every client in the codec it asked for.
+#pragma once
+
+#include <atomic>
+#include <optional>
+#include <string>
+
+#include "common/base/result.h"
+#include "common/scene/scene_model.h"
+
+namespace pathfarm::coord {
+
+struct FarmOptions {
+    uint16_t tracer_port = 0;  // 0: an ephemeral port, printed at start
+    uint16_t client_port = 0;
+    std::string bind_address = "0.0.0.0";
+    int width = 640, height = 360, spp = 1, max_depth = 8;
+    uint32_t seed = 0;
+    double fps = 30.0;
+    int frames = 0;       // 0: until stopped
+    int min_tracers = 1;  // tracers to wait for before frame 0
+    int deadline_ms = 10000;
+    std::optional<int> clip;
+    std::string secret;
+    std::string stats_csv;         // frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp
+    std::string tracer_stats_csv;  // frame,tracer,first_row,rows,render_ms
+    std::string dump_frames;       // folder for frame_NNNNNN.pfm (linear float)
+};
+
+Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop);
+
+}  // namespace pathfarm::coord

@@ -1,0 +1,67 @@
+// pathfarm-tracer command line: the tracer daemon.
+#include <csignal>
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "common/base/log.h"
+#include "common/net/auth.h"
+#include "tracer-node/tracer_daemon.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void request_stop(int) { g_stop = true; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    pathfarm::tracer::TracerOptions o;
+    std::string coordinator, secret_file, log_level = "info";
+    CLI::App app{"pathfarm-tracer: renders the rows a pathfarm coordinator assigns it"};
+    app.add_option("--coordinator", coordinator, "Coordinator tracer port, HOST:PORT")->required();
+    app.add_option("--backend", o.backend, "Render backend: embree or opencl")
+        ->capture_default_str();
+    app.add_option("--threads", o.threads, "Render threads (0: all)")->capture_default_str();
+    app.add_option("--secret-file", secret_file,
+                   "File holding the shared secret (else $PATHFARM_SECRET)");
+    app.add_option("--name", o.name, "Name shown in the coordinator's statistics")
+        ->capture_default_str();
+    app.add_option("--slowdown", o.slowdown,
+                   "Run X times slower (waits (X-1) x render time), for tests")
+        ->capture_default_str();
+    app.add_option("--max-reconnects", o.max_reconnects,
+                   "Give up after this many failed connections (-1: never)")
+        ->capture_default_str();
+    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
+        ->capture_default_str();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+    pathfarm::init_logging("pathfarm-tracer", log_level);
+    const auto colon = coordinator.rfind(':');
+    int port = 0;
+    if (colon == std::string::npos || (port = std::atoi(coordinator.c_str() + colon + 1)) <= 0 ||
+        port > 65535) {
+        std::fprintf(stderr, "pathfarm-tracer: --coordinator %s: expected HOST:PORT\n",
+                     coordinator.c_str());
+        return 2;
+    }
+    o.host = coordinator.substr(0, colon);
+    o.port = uint16_t(port);
+    auto secret = pathfarm::net::load_secret(secret_file);
+    if (!secret) {
+        std::fprintf(stderr, "pathfarm-tracer: %s\n", secret.error().message.c_str());
+        return 2;
+    }
+    o.secret = *secret;
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+    if (auto s = pathfarm::tracer::run_tracer(o, g_stop); !s) {
+        std::fprintf(stderr, "pathfarm-tracer: %s\n", s.error().message.c_str());
+        return s.error().code == pathfarm::ErrorCode::invalid_argument ? 2 : 1;
+    }
+    return 0;
+}

@@ -1,0 +1,31 @@
+// The tracer daemon: connects (and reconnects with backoff) to a coordinator, keeps a replica
+// of the scene from its snapshot and commits, renders the rows it is assigned with a backend
+// and streams them back as tiles with their measured cost per 4-row work unit.
+#pragma once
+
+#include <atomic>
+#include <string>
+
+#include "common/base/result.h"
+
+namespace pathfarm::tracer {
+
+struct TracerOptions {
+    std::string host = "127.0.0.1";
+    uint16_t port = 0;
+    std::string backend = "embree";
+    int threads = 0;
+    std::string secret;
+    std::string name = "tracer";
+    double slowdown = 1.0;    // >1: wait (slowdown - 1) x the render time after each tile
+    int max_reconnects = -1;  // -1: forever
+};
+
+inline constexpr int kRowsPerWorkUnit = 4;
+inline constexpr int kUnitsPerTile = 4;
+
+// Runs until `stop` becomes true (or the reconnect budget is spent). Returns an error only for
+// problems that retrying cannot fix (bad options, backend unavailable).
+Status run_tracer(const TracerOptions& options, const std::atomic<bool>& stop);
+
+}  // namespace pathfarm::tracer
