@@ -2,7 +2,9 @@
 add_library(pathfarm_warnings INTERFACE)
 target_compile_options(pathfarm_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Wunused
-  -Woverloaded-virtual -Wimplicit-fallthrough)
+  -Woverloaded-virtual -Wimplicit-fallthrough
+  # GCC 12 reports false positives inside libstdc++'s std::string at -O3 (GCC bug 105651).
+  -Wno-restrict)
 if(PATHFARM_WERROR)
   target_compile_options(pathfarm_warnings INTERFACE -Werror)
 endif()

@@ -344,6 +344,8 @@ void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
     if (stats_.is_open())
         stats_ << frame_ << ',' << tracers_.size() << ',' << frame_ms << ',' << idle_pct << ','
                << p.plain_bytes << ',' << tile_bytes_ << ',' << o_.spp << '\n';
+    stats_.flush();  // live monitoring and tests read these while the farm runs
+    tracer_stats_.flush();
     std::map<FrameCodec, std::string> encoded;
     std::vector<std::pair<std::shared_ptr<net::Session>, FrameCodec>> targets;
     for (auto& [id, c] : clients_)

@@ -1,0 +1,221 @@
+// The farm as users run it: real coordinator, tracer and client processes on loopback.
+// Determinism: frames of farms of 1, 2 and 3 tracers equal pathfarm-render bit for bit.
+// Faults: a killed tracer's rows are re-assigned, a late tracer renders within 3 frames,
+// tracers reconnect to a restarted coordinator, a departing client disturbs nothing.
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/process.h"
+#include "tests/support/test_env.h"
+
+namespace pathfarm {
+namespace {
+
+using namespace std::chrono_literals;
+using test::Process;
+
+const std::string kCoordinator = PATHFARM_COORDINATOR_EXE;
+const std::string kTracer = PATHFARM_TRACER_EXE;
+const std::string kClient = PATHFARM_CLIENT_EXE;
+const std::string kRender = PATHFARM_RENDER_EXE;
+
+struct Farm {
+    std::string dir = test::scratch_dir();
+    std::unique_ptr<Process> coordinator;
+    std::vector<std::unique_ptr<Process>> tracers;
+    int tracer_port = 0, client_port = 0;
+
+    Farm() { setenv("PATHFARM_SECRET", "farm-test-secret", 1); }
+
+    void start(std::vector<std::string> extra, int port = 0) {
+        std::vector<std::string> args{kCoordinator,
+                                      "--scene",
+                                      "builtin:default",
+                                      "--tracer-port",
+                                      std::to_string(port),
+                                      "--client-port",
+                                      "0",
+                                      "--width",
+                                      "64",
+                                      "--height",
+                                      "50",
+                                      "--spp",
+                                      "2",
+                                      "--dump-frames",
+                                      dir + "/dump",
+                                      "--stats-csv",
+                                      dir + "/stats.csv",
+                                      "--tracer-stats-csv",
+                                      dir + "/tracers.csv"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        coordinator = std::make_unique<Process>(args, dir + "/coordinator.log");
+        const auto line = test::wait_for_text(dir + "/coordinator.log", "tracer_port=", 10s);
+        ASSERT_TRUE(line.has_value()) << test::read_file(dir + "/coordinator.log");
+        std::istringstream ls(*line);
+        ls >> tracer_port;
+        client_port = std::stoi(line->substr(line->find("client_port=") + 12));
+    }
+    Process& add_tracer(const std::string& name, std::vector<std::string> extra = {}) {
+        std::vector<std::string> args{kTracer,
+                                      "--coordinator",
+                                      "127.0.0.1:" + std::to_string(tracer_port),
+                                      "--name",
+                                      name,
+                                      "--threads",
+                                      "1"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        tracers.push_back(std::make_unique<Process>(args, dir + "/" + name + ".log"));
+        return *tracers.back();
+    }
+    int finish(std::chrono::milliseconds timeout = 60s) {
+        const auto rc = coordinator->wait(timeout);
+        EXPECT_TRUE(rc.has_value()) << "coordinator did not finish\n"
+                                    << test::read_file(dir + "/coordinator.log");
+        return rc.value_or(-1);
+    }
+    std::string reference(int frame) {
+        const std::string out = dir + "/reference_" + std::to_string(frame) + ".pfm";
+        Process render(
+            {kRender, "--scene", "builtin:default", "--width", "64", "--height", "50", "--spp", "2",
+             "--frame", std::to_string(frame), "--out", out, "--log-level", "error"},
+            dir + "/render.log");
+        EXPECT_EQ(render.wait(30s), std::optional<int>(0)) << test::read_file(dir + "/render.log");
+        return out;
+    }
+    std::string frame(int f) const {
+        char name[32];
+        std::snprintf(name, sizeof(name), "/dump/frame_%06d.pfm", f);
+        return dir + name;
+    }
+    std::vector<std::vector<std::string>> csv(const std::string& file) const {
+        std::vector<std::vector<std::string>> rows;
+        std::ifstream in(dir + "/" + file);
+        std::string line;
+        std::getline(in, line);
+        while (std::getline(in, line)) {
+            std::vector<std::string> row;
+            std::stringstream ls(line);
+            std::string cell;
+            while (std::getline(ls, cell, ','))
+                row.push_back(cell);
+            rows.push_back(row);
+        }
+        return rows;
+    }
+};
+
+int free_port() {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
+    socklen_t len = sizeof(addr);
+    getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    close(fd);
+    return ntohs(addr.sin_port);
+}
+
+class FarmDeterminism : public ::testing::TestWithParam<int> {};
+
+TEST_P(FarmDeterminism, FramesEqualPathfarmRenderBitForBit) {
+    const int tracers = GetParam();
+    Farm farm;
+    farm.start({"--frames", "3", "--min-tracers", std::to_string(tracers)});
+    for (int t = 0; t < tracers; ++t)
+        farm.add_tracer("t" + std::to_string(t), {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    for (int f : {0, 2})
+        EXPECT_TRUE(test::images_identical(farm.frame(f), farm.reference(f)))
+            << tracers << " tracers, frame " << f;
+    const auto rows = farm.csv("tracers.csv");
+    ASSERT_EQ(rows.size(), std::size_t(3 * tracers)) << "every tracer rendered every frame";
+}
+
+INSTANTIATE_TEST_SUITE_P(Tracers, FarmDeterminism, ::testing::Values(1, 2, 3));
+
+TEST(FarmFaults, KilledTracersRowsAreReassignedAndTheFrameCompletes) {
+    Farm farm;
+    farm.start({"--frames", "4", "--min-tracers", "2", "--deadline-ms", "60000"});
+    farm.add_tracer("steady", {"--max-reconnects", "0"});
+    Process& doomed = farm.add_tracer("doomed", {"--slowdown", "400", "--max-reconnects", "0"});
+    ASSERT_TRUE(test::wait_for_text(farm.dir + "/coordinator.log", "\"doomed\" connected", 10s));
+    std::this_thread::sleep_for(1500ms);  // it is deep in its first tile of frame 0 now
+    doomed.kill(SIGKILL);
+    ASSERT_EQ(farm.finish(), 0);
+    EXPECT_NE(test::read_file(farm.dir + "/coordinator.log").find("\"doomed\" left"),
+              std::string::npos);
+    EXPECT_EQ(farm.csv("stats.csv").size(), 4u) << "no frame lost";
+    EXPECT_TRUE(test::images_identical(farm.frame(0), farm.reference(0)))
+        << "re-issued rows render identically";
+}
+
+TEST(FarmFaults, LateTracerRendersWithinThreeFrames) {
+    Farm farm;
+    farm.start({"--frames", "14", "--min-tracers", "1"});
+    farm.add_tracer("first", {"--slowdown", "40", "--max-reconnects", "0"});  // ~0.1 s a frame
+    ASSERT_TRUE(test::wait_for_text(farm.dir + "/stats.csv", "\n3,", 30s));
+    const std::size_t joined_at = farm.csv("stats.csv").size();
+    farm.add_tracer("late", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    int first_late = -1;
+    for (const auto& row : farm.csv("tracers.csv"))
+        if (row.at(1) == "late" && first_late < 0) first_late = std::stoi(row.at(0));
+    ASSERT_GE(first_late, 0) << "the late tracer never rendered";
+    EXPECT_LE(first_late, int(joined_at) + 3) << "joined while frame ~" << joined_at << " rendered";
+}
+
+TEST(FarmFaults, TracersReconnectToARestartedCoordinator) {
+    const int port = free_port();
+    Farm farm;
+    farm.start({"--frames", "2"}, port);
+    Process& tracer = farm.add_tracer("persistent");  // reconnects forever
+    ASSERT_EQ(farm.finish(), 0);
+    farm.start({"--frames", "2"}, port);  // a new coordinator on the same port
+    ASSERT_EQ(farm.finish(), 0) << "the tracer came back on its own";
+    EXPECT_NE(test::read_file(tracer.log_path()).find("retrying"), std::string::npos);
+}
+
+TEST(FarmFaults, ClientLeavingMidStreamDisturbsNothing) {
+    Farm farm;
+    farm.start({"--frames", "8"});
+    Process client(
+        {kClient, "--connect", "127.0.0.1:" + std::to_string(farm.client_port), "--headless",
+         "--frames", "2", "--out", farm.dir + "/received", "--format", "exr"},
+        farm.dir + "/client.log");
+    ASSERT_TRUE(
+        test::wait_for_text(farm.dir + "/coordinator.log", "\"headless-client\" connected", 10s));
+    farm.add_tracer("t", {"--slowdown", "10", "--max-reconnects", "0"});
+    EXPECT_EQ(client.wait(30s), std::optional<int>(0)) << test::read_file(farm.dir + "/client.log");
+    ASSERT_EQ(farm.finish(), 0);
+    EXPECT_EQ(farm.csv("stats.csv").size(), 8u);
+    EXPECT_NE(test::read_file(farm.dir + "/client.log").find("frames=2"), std::string::npos);
+    EXPECT_TRUE(test::images_identical(farm.dir + "/received/frame_000001.exr", farm.reference(1)))
+        << "lossless frames reach the client exactly";
+}
+
+TEST(FarmCli, BadInputIsAOneLineError) {
+    Farm farm;
+    unsetenv("PATHFARM_SECRET");
+    Process no_secret({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0"},
+                      farm.dir + "/a.log");
+    EXPECT_EQ(no_secret.wait(10s), std::optional<int>(2));
+    EXPECT_NE(test::read_file(farm.dir + "/a.log").find("no shared secret"), std::string::npos);
+    Process bad_address({kTracer, "--coordinator", "nowhere"}, farm.dir + "/b.log");
+    EXPECT_EQ(bad_address.wait(10s), std::optional<int>(2));
+    Process no_window({kClient, "--connect", "127.0.0.1:1"}, farm.dir + "/c.log");
+    EXPECT_EQ(no_window.wait(10s), std::optional<int>(2));
+}
+
+}  // namespace
+}  // namespace pathfarm
