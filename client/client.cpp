@@ -1,6 +1,7 @@
 // Headless client: frames arrive on the network thread and are written from this one.
 #include "client/client.h"
 
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
@@ -11,6 +12,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "client/contact_sheet.h"
 #include "common/base/timer.h"
 #include "common/film/float_codec.h"
 #include "common/film/image_io.h"
@@ -23,6 +25,11 @@ namespace pathfarm::client {
 namespace {
 
 namespace pb = ::pathfarm::wire::v1;
+
+float srgb_to_linear_byte(uint8_t v) {
+    const float x = float(v) / 255.0f;
+    return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
+}
 
 class FrameQueue {
 public:
@@ -59,20 +66,37 @@ private:
     std::string reason_;
 };
 
-Status write_frame(const ClientOptions& o, const pb::EncodedFrame& f) {
+// Decodes a frame to linear float (PNG frames are decoded from sRGB).
+Result<FloatImage> decode_frame(const pb::EncodedFrame& f) {
+    FloatImage img(int(f.width()), int(f.height()));
+    if (f.codec() == pb::FRAME_CODEC_FLOAT_ZSTD) {
+        auto rgb = decompress_floats(f.data(), std::size_t(f.width()) * f.height() * 3);
+        if (!rgb) return rgb.error();
+        img.rgb = std::move(*rgb);
+        return img;
+    }
+    if (f.codec() != pb::FRAME_CODEC_PNG)
+        return make_error(ErrorCode::unsupported, "frame {}: codec {} not supported", f.frame(),
+                          int(f.codec()));
+    auto png = decode_rgba8(reinterpret_cast<const unsigned char*>(f.data().data()),
+                            f.data().size(), "frame.png");
+    if (!png) return png.error();
+    if (png->width != img.width || png->height != img.height)
+        return make_error(ErrorCode::parse_error, "frame {}: PNG is {}x{}, frame {}x{}", f.frame(),
+                          png->width, png->height, img.width, img.height);
+    for (std::size_t i = 0; i < std::size_t(img.width) * img.height; ++i)
+        for (int c = 0; c < 3; ++c)
+            img.rgb[i * 3 + c] = srgb_to_linear_byte(png->rgba[i * 4 + c]);
+    return img;
+}
+
+Status write_frame(const ClientOptions& o, const pb::EncodedFrame& f, const FloatImage& img) {
     if (o.out_dir.empty()) return {};
     const std::string base = fmt::format("{}/frame_{:06d}", o.out_dir, f.frame());
-    if (f.codec() == pb::FRAME_CODEC_PNG) {
+    if (f.codec() == pb::FRAME_CODEC_PNG) {  // keep the coordinator's bytes
         std::ofstream(base + ".png", std::ios::binary) << f.data();
         return {};
     }
-    if (f.codec() != pb::FRAME_CODEC_FLOAT_ZSTD)
-        return make_error(ErrorCode::unsupported, "frame {}: codec {} not supported", f.frame(),
-                          int(f.codec()));
-    auto rgb = decompress_floats(f.data(), std::size_t(f.width()) * f.height() * 3);
-    if (!rgb) return rgb.error();
-    FloatImage img(int(f.width()), int(f.height()));
-    img.rgb = std::move(*rgb);
     return write_image(base + ".exr", img);
 }
 
@@ -134,19 +158,29 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
     if (!session) return session.error();
     if (auto first = script.find(0); first != script.end()) send_pose(**session, 1, first->second);
     ClientReport report;
+    ContactSheet sheet(o.frames > 0 ? (o.frames + 15) / 16 : 1);
     Timer timer;
     uint64_t sequence = 1;
     while (auto bytes = queue->pop(stop)) {
         pb::Envelope e;
         if (!e.ParseFromString(*bytes) || !e.has_frame()) continue;
         if (report.frames == 0) timer.reset();  // frame rate between frames, not connection time
-        if (Status s = write_frame(o, e.frame()); !s) spdlog::error("{}", s.error().message);
+        auto image = decode_frame(e.frame());
+        if (!image) {
+            spdlog::error("{}", image.error().message);
+            continue;
+        }
+        if (Status s = write_frame(o, e.frame(), *image); !s)
+            spdlog::error("{}", s.error().message);
+        sheet.add(uint64_t(report.frames), *image);
         ++report.frames;
         if (auto next = script.find(e.frame().frame() + 1); next != script.end())
             send_pose(**session, ++sequence, next->second);
         if (o.frames > 0 && report.frames >= o.frames) break;
     }
     report.seconds = timer.seconds();
+    if (!o.contact_sheet.empty())
+        if (Status s = sheet.write(o.contact_sheet); !s) spdlog::error("{}", s.error().message);
     if (report.frames == 0 && !stop)
         return make_error(ErrorCode::io_error, "no frames: {}", queue->reason());
     (*session)->close("client done");

@@ -21,7 +21,8 @@ struct ClientOptions {
     int frames = 0;       // stop after this many frames (0: until the coordinator closes)
     std::string out_dir;  // empty: do not write frames
     OutputFormat format = OutputFormat::png;
-    std::string script;  // camera script file
+    std::string script;         // camera script file
+    std::string contact_sheet;  // PNG of up to 16 evenly spaced frames; empty: none
 };
 
 struct ClientReport {

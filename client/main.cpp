@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::IsMember({"png", "exr"}));
     app.add_option("--script", o.script, "Camera script: lines of FRAME eye_xyz target_xyz");
+    app.add_option("--contact-sheet", o.contact_sheet,
+                   "PNG with thumbnails of up to 16 evenly spaced frames");
     app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
         ->capture_default_str();
     try {

@@ -79,7 +79,11 @@ public:
     }
     void close(std::string reason) override {
         asio::post(socket_.get_executor(), [self = shared_from_this(), reason = std::move(reason)] {
-            self->close_now(reason);
+            if (!self->open_) return self->close_now(reason);
+            if (self->closing_) return;
+            self->closing_ = true;  // the writer sends what is queued, then closes
+            self->close_reason_ = reason;
+            self->wake_.cancel_one();
         });
     }
     bool open() const override { return open_; }

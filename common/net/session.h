@@ -50,6 +50,7 @@ public:
     virtual void send(std::string envelope) = 0;
     // Sends an Error envelope, flushes, and closes. Thread-safe, idempotent.
     virtual void reject(ProtocolError code, std::string message) = 0;
+    // Sends what is already queued, then closes. Thread-safe, idempotent.
     virtual void close(std::string reason) = 0;
     virtual bool open() const = 0;
     virtual const PeerInfo& peer() const = 0;
