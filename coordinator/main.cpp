@@ -125,6 +125,8 @@ int main(int argc, char** argv) {
                    "File holding the shared secret (else $PATHFARM_SECRET)");
     app.add_option("--tracer-stats-csv", f.tracer_stats_csv,
                    "Per tracer and frame: frame,tracer,first_row,rows,render_ms");
+    app.add_option("--stages-csv", f.stages_csv,
+                   "Per frame: send, prepare-next, wait-for-tiles and assembly times");
     app.add_option("--dump-frames", f.dump_frames,
                    "Folder for every assembled frame as linear float PFM");
     app.add_option("--deadline-ms", f.deadline_ms, "Re-issue rows still missing after this long")

@@ -118,7 +118,7 @@ private:
     std::size_t tile_bytes_ = 0;
     std::optional<Mat4> pending_camera_;
     uint64_t last_input_ = 0;
-    std::ofstream stats_, tracer_stats_;
+    std::ofstream stats_, tracer_stats_, stages_;
 };
 
 void Farm::on_tracer(std::shared_ptr<net::Session> s) {
@@ -397,6 +397,10 @@ Status Farm::run(const std::atomic<bool>& stop) {
         stats_.open(o_.stats_csv);
         stats_ << "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp\n";
     }
+    if (!o_.stages_csv.empty()) {
+        stages_.open(o_.stages_csv);
+        stages_ << "frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms\n";
+    }
     if (!o_.tracer_stats_csv.empty()) {
         tracer_stats_.open(o_.tracer_stats_csv);
         tracer_stats_ << "frame,tracer,first_row,rows,render_ms\n";
@@ -404,8 +408,10 @@ Status Farm::run(const std::atomic<bool>& stop) {
     if (!o_.dump_frames.empty()) std::filesystem::create_directories(o_.dump_frames);
     PreparedFrame next = prepare(0);
     const Timer clock;
-    int completed = 0;
+    int completed = 0, completed_at_last_line = 0;
+    double last_line = 0.0;
     for (uint64_t f = 0; (o_.frames == 0 || f < uint64_t(o_.frames)) && !stop; ++f) {
+        Timer stage;
         {
             std::unique_lock lock(mutex_);
             const std::size_t needed = f == 0 ? std::size_t(std::max(1, o_.min_tracers)) : 1;
@@ -415,17 +421,33 @@ Status Farm::run(const std::atomic<bool>& stop) {
             frame_ = f;
             assembler_.emplace(o_.width, o_.height);
             tile_bytes_ = 0;
+            stage.reset();
             sync_and_assign(next);
         }
+        const double send_ms = stage.milliseconds();
         const Timer frame_timer;
         const PreparedFrame current = std::move(next);
+        stage.reset();
         next = prepare(f + 1);  // pipelined: frame N+1's commit while frame N renders
+        const double prepare_ms = stage.milliseconds();
+        stage.reset();
         if (!wait_for_frame(stop)) continue;
-        finish_frame(current, frame_timer.milliseconds());
+        const double wait_ms = stage.milliseconds();
+        const double frame_ms = frame_timer.milliseconds();
+        stage.reset();
+        finish_frame(current, frame_ms);
+        if (stages_.is_open())
+            stages_ << f << ',' << send_ms << ',' << prepare_ms << ',' << wait_ms << ','
+                    << stage.milliseconds() << '\n';
         ++completed;
-        if (completed % 30 == 0 || (o_.frames != 0 && f + 1 == uint64_t(o_.frames)))
-            spdlog::info("frame {}: {:.1f} frames/s, {} tracer(s)", f, completed / clock.seconds(),
-                         tracers_.size());
+        if (clock.seconds() - last_line >= 1.0) {  // one stats line a second
+            std::lock_guard lock(mutex_);
+            spdlog::info("frame {}: {:.1f} frames/s, {} tracer(s), {} client(s)", f,
+                         (completed - completed_at_last_line) / (clock.seconds() - last_line),
+                         tracers_.size(), clients_.size());
+            last_line = clock.seconds();
+            completed_at_last_line = completed;
+        }
     }
     std::printf("frames=%d seconds=%.3f fps=%.2f\n", completed, clock.seconds(),
                 completed / clock.seconds());

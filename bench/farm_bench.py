@@ -1,0 +1,136 @@
+#!/usr/bin/env python3
+"""Farm benchmark (issue: the farm): the same frames of builtin:default rendered by a farm of
+2 tracers x 1 thread, by 1 tracer x 2 threads and by pathfarm-render with 2 threads, in
+alternating rounds; frames/s as medians and ratios to pathfarm-render, the coordinator's
+per-stage times, bytes per frame on the wire, and the error figure: farm frames against
+pathfarm-render's (RMSE; the determinism contract makes it 0). CSV and a PNG under
+bench/results."""
+import argparse
+import csv
+import os
+import re
+import statistics
+import subprocess
+import tempfile
+import time
+
+from bench_common import ROOT, write_csv
+from bench_common import run as run_tool
+
+
+def start(cmd, log):
+    return subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT)
+
+
+def wait_for(path, pattern, timeout=30):
+    end = time.time() + timeout
+    while time.time() < end:
+        if os.path.exists(path):
+            m = re.search(pattern, open(path).read())
+            if m:
+                return m
+        time.sleep(0.05)
+    raise SystemExit(f"farm_bench: {pattern} never appeared in {path}")
+
+
+def farm(build, work, tracers, threads, a):
+    env = dict(os.environ, PATHFARM_SECRET="farm-bench")
+    os.environ.update(env)
+    log = os.path.join(work, "coordinator.log")
+    coordinator = start([f"{build}/coordinator/pathfarm-coordinator", "--scene", "builtin:default", "--tracer-port", "0",
+                         "--client-port", "0", "--width", str(a.width), "--height", str(a.height), "--spp", str(a.spp),
+                         "--frames", str(a.frames), "--min-tracers", str(tracers), "--stats-csv", f"{work}/stats.csv",
+                         "--stages-csv", f"{work}/stages.csv", "--dump-frames", f"{work}/dump"], log)
+    port = wait_for(log, r"tracer_port=(\d+)").group(1)
+    procs = [start([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{port}", "--threads",
+                    str(threads), "--name", f"t{i}", "--max-reconnects", "0"], os.path.join(work, f"t{i}.log"))
+             for i in range(tracers)]
+    coordinator.wait(timeout=600)
+    for p in procs:
+        p.wait(timeout=30)
+    fps = float(wait_for(log, r"fps=([0-9.]+)").group(1))
+    stats = list(csv.DictReader(open(f"{work}/stats.csv")))
+    stages = list(csv.DictReader(open(f"{work}/stages.csv")))
+    later = stats[1:]  # frame 0 carries the snapshot
+    wire = statistics.mean(int(r["commit_bytes"]) + int(r["tile_bytes"]) for r in later)
+    stage_ms = {k: statistics.median(float(r[k]) for r in stages[1:])
+                for k in ("send_ms", "prepare_next_ms", "wait_tiles_ms", "assemble_and_stream_ms")}
+    return fps, wire, stage_ms, statistics.median(float(r["idle_pct"]) for r in later)
+
+
+def render(build, work, a):
+    total = 0.0
+    for f in range(a.frames):
+        out = run_tool([f"{build}/tools/pathfarm-render", "--scene", "builtin:default", "--width", str(a.width),
+                        "--height", str(a.height), "--spp", str(a.spp), "--frame", str(f), "--threads", "2",
+                        "--out", f"{work}/render_{f}.pfm", "--log-level", "error"], "farm_bench", with_stderr=False)
+        total += float(re.search(r"seconds=([0-9.]+)", out).group(1))
+    return a.frames / total
+
+
+def rmse(a, b):
+    def floats(p):
+        data = open(p, "rb").read()
+        header_end = 0
+        for _ in range(3):
+            header_end = data.index(b"\n", header_end) + 1
+        return memoryview(data[header_end:]).cast("f")
+    x, y = floats(a), floats(b)
+    return (sum((p - q) ** 2 for p, q in zip(x, y)) / len(x)) ** 0.5
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
+    p.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    p.add_argument("--width", type=int, default=320)
+    p.add_argument("--height", type=int, default=180)
+    p.add_argument("--spp", type=int, default=4)
+    p.add_argument("--frames", type=int, default=30)
+    p.add_argument("--rounds", type=int, default=3)
+    a = p.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    runs = []
+    for r in range(a.rounds):  # alternate the three set-ups so machine noise hits all alike
+        for name, tracers, threads in (("farm_2x1", 2, 1), ("farm_1x2", 1, 2), ("render_2threads", 0, 2)):
+            with tempfile.TemporaryDirectory() as work:
+                if tracers == 0:
+                    runs.append([r, name, render(a.build, work, a), "", "", "", "", "", "", ""])
+                    continue
+                fps, wire, st, idle = farm(a.build, work, tracers, threads, a)
+                if r == 0 and name == "farm_2x1":
+                    render_ref = os.path.join(work, "ref.pfm")
+                    run_tool([f"{a.build}/tools/pathfarm-render", "--scene", "builtin:default", "--width", str(a.width),
+                              "--height", str(a.height), "--spp", str(a.spp), "--frame", "5", "--out", render_ref,
+                              "--log-level", "error"], "farm_bench")
+                    error = rmse(os.path.join(work, "dump", "frame_000005.pfm"), render_ref)
+                runs.append([r, name, fps, round(wire), st["send_ms"], st["prepare_next_ms"], st["wait_tiles_ms"],
+                             st["assemble_and_stream_ms"], idle, ""])
+    header = ["round", "setup", "frames_per_s", "wire_bytes_per_frame", "send_ms", "prepare_next_ms",
+              "wait_tiles_ms", "assemble_and_stream_ms", "idle_pct", "note"]
+    write_csv(os.path.join(a.out, "farm_runs.csv"), header, runs)
+    med = {n: statistics.median(r[2] for r in runs if r[1] == n) for n in ("farm_2x1", "farm_1x2", "render_2threads")}
+    summary = [[n, round(v, 3), round(v / med["render_2threads"], 3)] for n, v in med.items()]
+    write_csv(os.path.join(a.out, "farm.csv"), ["setup", "median_frames_per_s", "ratio_to_render"], summary)
+    print(",".join(header))
+    for r in runs:
+        print(",".join(map(str, r)))
+    print("setup,median_frames_per_s,ratio_to_render")
+    for s in summary:
+        print(",".join(map(str, s)))
+    print(f"rmse_farm_frame5_vs_render={error:.3g}")
+    subprocess.run(["gnuplot"], input=f"""
+set datafile separator ','
+set terminal pngcairo size 800,500
+set output '{a.out}/farm.png'
+set title 'Frames/s, builtin:default {a.width}x{a.height} {a.spp} spp (median of {a.rounds} alternated rounds)'
+set style data histograms
+set style fill solid 0.8
+set ylabel 'frames per second'
+set yrange [0:*]
+plot '{a.out}/farm.csv' using 2:xtic(1) notitle
+""", text=True, check=True)
+
+
+if __name__ == "__main__":
+    main()
