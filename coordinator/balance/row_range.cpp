@@ -12,7 +12,7 @@ std::vector<RowRange> split_range(const RowRange& range, int parts) {
     int unit = 0;
     for (int p = 0; p < parts; ++p) {
         const int take = units / parts + (p < units % parts ? 1 : 0);
-        const int y0 = range.y0 + unit * kRowsPerWorkUnit;
+        const int y0 = std::min(range.y1, range.y0 + unit * kRowsPerWorkUnit);
         unit += take;
         const int y1 = std::min(range.y1, range.y0 + unit * kRowsPerWorkUnit);
         out.push_back({y0, std::max(y0, y1)});
