@@ -89,8 +89,7 @@ int farm(pathfarm::SceneModel scene, const std::string& clip_name, const std::st
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string scene_spec, export_path, clip_name, secret_file, stats_csv, balancer = "equal",
-                                                                            log_level = "info";
+    std::string scene_spec, export_path, clip_name, secret_file, stats_csv, log_level = "info";
     double export_at = 0.0, fps = 30.0;
     int frames = -1;
     bool offline_mode = false;
@@ -118,9 +117,14 @@ int main(int argc, char** argv) {
     app.add_option("--seed", f.seed, "Seed of the per-sample random numbers")
         ->capture_default_str();
     app.add_option("--max-depth", f.max_depth, "Maximum number of bounces")->capture_default_str();
-    app.add_option("--balancer", balancer, "Row balancing scheme")
+    app.add_option("--balancer", f.balancer,
+                   "Row balancing: none, robin-hood, perfect, perfect-smooth, cost-predictive")
         ->capture_default_str()
-        ->check(CLI::IsMember({"equal"}));
+        ->check(
+            CLI::IsMember({"none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive"}));
+    app.add_option(
+        "--record-costs", f.record_costs,
+        "Per frame and work unit: frame,unit,cost_us (record with one tracer, for the simulator)");
     app.add_option("--secret-file", secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
     app.add_option("--tracer-stats-csv", f.tracer_stats_csv,

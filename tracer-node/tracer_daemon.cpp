@@ -22,12 +22,18 @@ namespace {
 
 namespace pb = ::pathfarm::wire::v1;
 
-// Messages from the network thread, and whether the session is gone.
+// Envelopes from the network thread (parsed there), whether the session is gone, and the
+// newest commit announced, so a render of an older frame can be abandoned.
 class Inbox {
 public:
-    void push(std::string m) {
+    void push(std::string bytes) {
+        auto e = std::make_unique<pb::Envelope>();
+        const bool ok = e->ParseFromString(bytes);
         std::lock_guard lock(mutex_);
-        queue_.push_back(std::move(m));
+        if (!ok) e.reset();  // handled as malformed by the worker
+        if (e && e->has_commit())
+            newest_commit_ = std::max(newest_commit_.load(), e->commit().frame());
+        queue_.push_back(std::move(e));
         cv_.notify_one();
     }
     void close() {
@@ -35,41 +41,44 @@ public:
         closed_ = true;
         cv_.notify_one();
     }
-    // Next message; nullopt when the session closed (after draining) or stop was requested.
-    std::optional<std::string> pop(const std::atomic<bool>& stop) {
+    // Next envelope (nullptr if it did not parse); nullopt when the session closed (after
+    // draining) or stop was requested.
+    std::optional<std::unique_ptr<pb::Envelope>> pop(const std::atomic<bool>& stop) {
         std::unique_lock lock(mutex_);
         while (queue_.empty() && !closed_ && !stop)
             cv_.wait_for(lock, std::chrono::milliseconds(100));
         if (queue_.empty()) return std::nullopt;
-        std::string m = std::move(queue_.front());
+        auto e = std::move(queue_.front());
         queue_.pop_front();
-        return m;
+        return e;
     }
+    uint64_t newest_commit() const { return newest_commit_; }
 
 private:
     std::mutex mutex_;
     std::condition_variable cv_;
-    std::deque<std::string> queue_;
+    std::deque<std::unique_ptr<pb::Envelope>> queue_;
+    std::atomic<uint64_t> newest_commit_{0};
     bool closed_ = false;
 };
 
 class Worker {
 public:
-    Worker(const TracerOptions& o, RenderBackend& backend, net::Session& session)
-        : options_(o), backend_(backend), session_(session) {}
+    Worker(const TracerOptions& o, RenderBackend& backend, net::Session& session,
+           const Inbox& inbox)
+        : options_(o), backend_(backend), session_(session), inbox_(inbox) {}
 
     // Handles one envelope; an error means the session must be dropped and re-synchronised.
-    Status handle(const std::string& bytes) {
-        pb::Envelope e;
-        if (!e.ParseFromString(bytes))
+    Status handle(const pb::Envelope* e) {
+        if (e == nullptr)
             return make_error(ErrorCode::parse_error, "malformed envelope from the coordinator");
-        if (e.has_chunk()) {
-            replica_.add_chunk(e.chunk().frame(), e.chunk().SerializeAsString());
+        if (e->has_chunk()) {
+            replica_.add_chunk(e->chunk().frame(), e->chunk().SerializeAsString());
             return {};
         }
-        if (e.has_commit())
-            return replica_.apply(e.commit().SerializeAsString(), e.commit().frame());
-        if (e.has_assignment()) return render(e.assignment());
+        if (e->has_commit())
+            return replica_.apply(e->commit().SerializeAsString(), e->commit().frame());
+        if (e->has_assignment()) return render(e->assignment());
         return {};  // other messages are not for tracers
     }
 
@@ -98,6 +107,8 @@ private:
         job.integrator.max_depth = int(a.max_depth());
         const int tile_rows = kRowsPerWorkUnit * kUnitsPerTile;
         for (int y = int(a.y0()); y < int(a.y1()); y += tile_rows) {
+            if (inbox_.newest_commit() > a.commit())
+                return {};  // the frame closed: do not finish stale rows
             if (Status s = render_tile(a, job, y, std::min(int(a.y1()), y + tile_rows)); !s)
                 return s;
         }
@@ -109,19 +120,21 @@ private:
         pb::Envelope e;
         pb::Tile* tile = e.mutable_tile();
         const Timer tile_timer;
-        for (int y = y0; y < y1; y += kRowsPerWorkUnit) {  // one work unit at a time, timed
+        for (int y = y0; y < y1; y += kRowsPerWorkUnit) {        // one work unit at a time, timed
+            if (inbox_.newest_commit() > a.commit()) return {};  // the frame closed meanwhile
             job.y0 = y;
             job.y1 = std::min(y1, y + kRowsPerWorkUnit);
             const Timer unit;
             auto stats =
                 backend_.render_rows(job, rgb.data() + std::size_t(y - y0) * a.width() * 3);
             if (!stats) return stats.error();
-            tile->add_unit_cost_us(uint32_t(unit.seconds() * 1e6));
+            const double unit_s = unit.seconds();
+            if (options_.slowdown > 1.0)  // an X times slower machine, unit by unit
+                std::this_thread::sleep_for(
+                    std::chrono::duration<double>((options_.slowdown - 1.0) * unit_s));
+            tile->add_unit_cost_us(uint32_t(unit_s * 1e6));
+            tile->add_unit_rays(stats->counters.rays);
         }
-        const double render_s = tile_timer.seconds();
-        if (options_.slowdown > 1.0)
-            std::this_thread::sleep_for(
-                std::chrono::duration<double>((options_.slowdown - 1.0) * render_s));
         e.set_version(net::kProtocolVersion);
         tile->set_frame(a.frame());
         tile->set_commit(a.commit());
@@ -137,6 +150,7 @@ private:
     const TracerOptions& options_;
     RenderBackend& backend_;
     net::Session& session_;
+    const Inbox& inbox_;
     Replica replica_;
     SceneModel scene_;  // what the backend renders; outlives its use by the backend
 };
@@ -144,9 +158,9 @@ private:
 // One connection's lifetime: messages until it closes or the replica needs a fresh snapshot.
 void serve_session(const TracerOptions& o, RenderBackend& backend, net::Session& session,
                    Inbox& inbox, const std::atomic<bool>& stop) {
-    Worker worker(o, backend, session);
+    Worker worker(o, backend, session, inbox);
     while (auto message = inbox.pop(stop)) {
-        if (Status s = worker.handle(*message); !s) {
+        if (Status s = worker.handle(message->get()); !s) {
             spdlog::error("{}; reconnecting for a fresh snapshot", s.error().message);
             break;
         }

@@ -17,6 +17,7 @@
 #include "common/net/framing.h"
 #include "common/net/session.h"
 #include "coordinator/accel/accel_updater.h"
+#include "coordinator/balance/balancer.h"
 #include "coordinator/balance/row_range.h"
 #include "coordinator/commit/bvh_ops.h"
 #include "coordinator/commit/commit_builder.h"
@@ -62,6 +63,8 @@ struct TracerState {
     std::vector<RowRange> assigned;          // this frame
     RowRange first_assignment;
     double render_ms = 0.0;
+    std::optional<uint64_t> measured_frame;  // the frame `measured` describes
+    TracerFrame measured;                    // what it rendered and how long it took
 };
 
 struct ClientState {
@@ -90,6 +93,10 @@ public:
     }
 
     Status run(const std::atomic<bool>& stop);
+    void set_balancer(std::unique_ptr<Balancer> b) {
+        steal_ = b->name() == "cost-predictive";
+        balancer_ = std::move(b);
+    }
 
 private:
     // --- network thread
@@ -97,6 +104,7 @@ private:
     void on_client(std::shared_ptr<net::Session> s);
     void on_tile(uint64_t id, const std::string& bytes);
     void on_tracer_closed(uint64_t id);
+    void steal_for(uint64_t id);  // holds mutex_: an idle tracer takes part of another's rows
     // --- frame loop (callers hold mutex_ where noted)
     PreparedFrame prepare(uint64_t frame);
     void sync_and_assign(const PreparedFrame& p);                       // holds mutex_
@@ -116,9 +124,13 @@ private:
     std::optional<FrameAssembler> assembler_;
     uint64_t frame_ = 0;
     std::size_t tile_bytes_ = 0;
+    std::unique_ptr<Balancer> balancer_;
+    bool steal_ = false;  // idle tracers take rows of the busiest (the cost-predictive scheme)
+    std::vector<double> unit_rays_, unit_us_,
+        last_unit_rays_;  // per work unit of this / last frame
     std::optional<Mat4> pending_camera_;
     uint64_t last_input_ = 0;
-    std::ofstream stats_, tracer_stats_, stages_;
+    std::ofstream stats_, tracer_stats_, stages_, costs_;
 };
 
 void Farm::on_tracer(std::shared_ptr<net::Session> s) {
@@ -126,8 +138,11 @@ void Farm::on_tracer(std::shared_ptr<net::Session> s) {
     s->on_message = [this, id](std::string&& m) { on_tile(id, m); };
     s->on_closed = [this, id](const std::string&) { on_tracer_closed(id); };
     std::lock_guard lock(mutex_);
-    tracers_[id] =
-        TracerState{s, s->peer().name, s->peer().wants_bvh_nodes, std::nullopt, {}, {}, 0.0};
+    TracerState t;
+    t.session = s;
+    t.name = s->peer().name;
+    t.wants_bvh = s->peer().wants_bvh_nodes;
+    tracers_[id] = std::move(t);
     cv_.notify_all();
 }
 
@@ -178,8 +193,42 @@ void Farm::on_tile(uint64_t id, const std::string& bytes) {
     }
     assembler_->add(range, rgb->data());
     it->second.render_ms += t.render_ms();
+    if (steal_ && !assembler_->complete()) steal_for(id);
+    const std::size_t unit0 = std::size_t(range.y0 / kRowsPerWorkUnit);
+    for (int k = 0; k < t.unit_rays_size() && unit0 + std::size_t(k) < unit_rays_.size(); ++k)
+        unit_rays_[unit0 + std::size_t(k)] = double(t.unit_rays(k));
+    for (int k = 0; k < t.unit_cost_us_size() && unit0 + std::size_t(k) < unit_us_.size(); ++k)
+        unit_us_[unit0 + std::size_t(k)] = double(t.unit_cost_us(k));
     tile_bytes_ += bytes.size();
     cv_.notify_all();
+}
+
+void Farm::steal_for(uint64_t id) {
+    TracerState& me = tracers_.at(id);
+    for (const RowRange& r : me.assigned)
+        if (!assembler_->missing(r).empty()) return;  // still busy with its own rows
+    // The tracer with the most rows still missing gives up the tail half of its last gap.
+    std::optional<RowRange> gap;
+    int most = 0;
+    for (const auto& [other, t] : tracers_) {
+        if (other == id || t.replica_commit != frame_) continue;
+        int missing = 0;
+        std::optional<RowRange> last;
+        for (const RowRange& r : t.assigned)
+            for (const RowRange& m : assembler_->missing(r)) {
+                missing += m.rows();
+                last = m;
+            }
+        if (missing > most) {
+            most = missing;
+            gap = last;
+        }
+    }
+    // One unit is probably being rendered already; taking less than two is not worth a message.
+    if (!gap || gap->rows() < 2 * kRowsPerWorkUnit) return;
+    const int units = (gap->rows() / kRowsPerWorkUnit) / 2;
+    const int y0 = std::max(gap->y0, gap->y1 - units * kRowsPerWorkUnit);
+    assign(id, me, {y0 - y0 % kRowsPerWorkUnit, gap->y1});
 }
 
 void Farm::on_tracer_closed(uint64_t id) {
@@ -272,7 +321,13 @@ void Farm::sync_and_assign(const PreparedFrame& p) {
         t.render_ms = 0.0;
         synced.push_back(id);
     }
-    const auto ranges = split_rows_equally(o_.height, int(synced.size()));
+    BalanceInput in{o_.height, {}, last_unit_rays_};
+    for (uint64_t id : synced) {  // tracers that did not render the previous frame are new to it
+        const TracerState& t = tracers_.at(id);
+        in.last.push_back(p.frame > 0 && t.measured_frame == p.frame - 1 ? t.measured
+                                                                         : TracerFrame{});
+    }
+    const auto ranges = balancer_->assign(in);
     for (std::size_t i = 0; i < synced.size(); ++i) {
         TracerState& t = tracers_.at(synced[i]);
         t.first_assignment = ranges[i];
@@ -341,6 +396,15 @@ void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
                           << t.first_assignment.rows() << ',' << t.render_ms << '\n';
     }
     const double idle_pct = n > 0 && t_max > 0.0 ? 100.0 * idle / (n * t_max) : 0.0;
+    for (auto& [id, t] : tracers_)
+        if (t.replica_commit == frame_ && t.render_ms > 0.0) {
+            t.measured_frame = frame_;
+            t.measured = TracerFrame{t.first_assignment, t.render_ms};
+        }
+    last_unit_rays_ = unit_rays_;
+    if (costs_.is_open())
+        for (std::size_t u = 0; u < unit_us_.size(); ++u)
+            costs_ << frame_ << ',' << u << ',' << unit_us_[u] << '\n';
     if (stats_.is_open())
         stats_ << frame_ << ',' << tracers_.size() << ',' << frame_ms << ',' << idle_pct << ','
                << p.plain_bytes << ',' << tile_bytes_ << ',' << o_.spp << '\n';
@@ -397,6 +461,10 @@ Status Farm::run(const std::atomic<bool>& stop) {
         stats_.open(o_.stats_csv);
         stats_ << "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp\n";
     }
+    if (!o_.record_costs.empty()) {
+        costs_.open(o_.record_costs);
+        costs_ << "frame,unit,cost_us\n";
+    }
     if (!o_.stages_csv.empty()) {
         stages_.open(o_.stages_csv);
         stages_ << "frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms\n";
@@ -421,6 +489,8 @@ Status Farm::run(const std::atomic<bool>& stop) {
             frame_ = f;
             assembler_.emplace(o_.width, o_.height);
             tile_bytes_ = 0;
+            unit_rays_.assign(std::size_t(work_units(o_.height)), 0.0);
+            unit_us_.assign(unit_rays_.size(), 0.0);
             stage.reset();
             sync_and_assign(next);
         }
@@ -474,7 +544,12 @@ Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<
         options.deadline_ms <= 0)
         return make_error(ErrorCode::invalid_argument,
                           "--width/--height/--spp/--fps/--deadline-ms must be positive");
+    auto balancer = make_balancer(options.balancer);
+    if (!balancer)
+        return make_error(ErrorCode::invalid_argument, "--balancer {}: unknown scheme",
+                          options.balancer);
     Farm farm(std::move(scene), options);
+    farm.set_balancer(std::move(balancer));
     return farm.run(stop);
 }
 

@@ -28,7 +28,9 @@ struct FarmOptions {
     std::string stats_csv;         // frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp
     std::string tracer_stats_csv;  // frame,tracer,first_row,rows,render_ms
     std::string dump_frames;       // folder for frame_NNNNNN.pfm (linear float)
-    std::string stages_csv;  // frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms
+    std::string balancer = "cost-predictive";  // coordinator/balance/balancer.h
+    std::string record_costs;  // frame,unit,cost_us per work unit (record with one tracer)
+    std::string stages_csv;    // frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms
 };
 
 Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop);

@@ -1,0 +1,145 @@
+// Tables, CSV and plots of the balancing simulation.
+#include "tools/balance-sim/sim_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+
+#include <fmt/format.h>
+
+namespace pathfarm::sim {
+namespace {
+
+struct Cell {
+    double idle = 0.0, p50 = 0.0, p99 = 0.0;
+    std::vector<double> idle_per_frame;
+};
+
+double percentile(std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+Result<Cell> run_cell(const ReportOptions& o, int tracers, const CostTrace& trace,
+                      const std::string& scheme) {
+    SimOptions sim = o.sim;
+    sim.speeds = tracers == 2   ? o.speeds2
+                 : tracers == 3 ? o.speeds3
+                                : std::vector<double>(std::size_t(tracers), 1.0);
+    if (int(sim.speeds.size()) != tracers)
+        return make_error(ErrorCode::invalid_argument, "--speeds{}: {} speeds for {} tracers",
+                          tracers, sim.speeds.size(), tracers);
+    sim.reissue = scheme == "ours";
+    auto balancer = coord::make_balancer(scheme == "ours" ? "cost-predictive" : scheme);
+    if (!balancer)
+        return make_error(ErrorCode::invalid_argument, "--schemes: unknown scheme \"{}\"", scheme);
+    const auto frames = simulate(*balancer, sim, trace);
+    Cell c;
+    std::vector<double> rel;
+    for (const FrameResult& f : frames) {
+        c.idle += f.idle_pct / double(frames.size());
+        c.idle_per_frame.push_back(f.idle_pct);
+        rel.push_back(f.frame_ms / f.ideal_ms);
+    }
+    c.p50 = percentile(rel, 0.5);
+    c.p99 = percentile(rel, 0.99);
+    return c;
+}
+
+Status write_plot(const ReportOptions& o,
+                  const std::map<std::string, std::map<std::string, Cell>>& cells) {
+    const std::string data = o.plot + ".frames.csv";
+    std::ofstream out(data);
+    out << "column,scheme,frame,idle_pct\n";
+    for (const auto& [column, by_scheme] : cells)
+        for (const auto& [scheme, cell] : by_scheme)
+            for (std::size_t f = 0; f < cell.idle_per_frame.size(); ++f)
+                out << column << ',' << scheme << ',' << f << ',' << cell.idle_per_frame[f] << '\n';
+    out.close();
+    std::string script = fmt::format(
+        "set datafile separator ','\nset terminal pngcairo size 1400,900\nset output '{}'\n"
+        "set multiplot layout 2,2\nset yrange [0:*]\nset xlabel 'frame'\nset ylabel 'idle %'\n",
+        o.plot);
+    for (const auto& [column, by_scheme] : cells) {
+        script += fmt::format("set title 'idle % per frame: {}'\nplot ", column);
+        bool first = true;
+        for (const auto& [scheme, cell] : by_scheme) {
+            script += fmt::format("{}'< grep \"^{},{},\" {}' using 3:4 with lines title '{}'",
+                                  first ? "" : ", ", column, scheme, data, scheme);
+            first = false;
+        }
+        script += "\n";
+    }
+    script += "unset multiplot\n";
+    FILE* gp = popen("gnuplot", "w");
+    if (gp == nullptr)
+        return make_error(ErrorCode::io_error, "--plot {}: cannot run gnuplot", o.plot);
+    std::fputs(script.c_str(), gp);
+    if (pclose(gp) != 0)
+        return make_error(ErrorCode::io_error, "--plot {}: gnuplot failed", o.plot);
+    return {};
+}
+
+}  // namespace
+
+std::vector<std::string> all_schemes() {
+    return {"none", "robin-hood", "perfect", "perfect-smooth", "ours"};
+}
+
+Result<std::string> run_report(const ReportOptions& o) {
+    std::map<std::string, std::map<std::string, Cell>>
+        cells;  // column ("2 slow") -> scheme -> cell
+    std::vector<std::string> columns;
+    std::ofstream csv;
+    if (!o.csv.empty()) {
+        csv.open(o.csv);
+        if (!csv) return make_error(ErrorCode::io_error, "--csv {}: cannot write", o.csv);
+        csv << "tracers,camera,scheme,idle_pct,p50_frame_rel,p99_frame_rel\n";
+    }
+    for (int tracers : o.tracer_counts) {
+        if (tracers < 1 || tracers > 64)
+            return make_error(ErrorCode::invalid_argument, "--tracers {}: must be 1..64", tracers);
+        for (const std::string& camera : o.cameras) {
+            auto trace =
+                read_cost_trace(o.trace.empty() ? o.traces_dir + "/" + camera + ".csv" : o.trace);
+            if (!trace) return trace.error();
+            const std::string column = fmt::format("{} {}", tracers, camera);
+            columns.push_back(column);
+            for (const std::string& scheme : o.schemes) {
+                auto cell = run_cell(o, tracers, *trace, scheme);
+                if (!cell) return cell.error();
+                if (csv.is_open())
+                    csv << tracers << ',' << camera << ',' << scheme << ',' << cell->idle << ','
+                        << cell->p50 << ',' << cell->p99 << '\n';
+                cells[column][scheme] = std::move(*cell);
+            }
+        }
+    }
+    std::string table = fmt::format("{:<16}", "mean idle %");
+    for (const auto& c : columns)
+        table += fmt::format("{:>10}", c);
+    table += "\n";
+    for (const std::string& scheme : o.schemes) {
+        table += fmt::format("{:<16}", scheme);
+        for (const auto& c : columns)
+            table += fmt::format("{:>10.1f}", cells[c][scheme].idle);
+        table += "\n";
+    }
+    table += fmt::format("\n{:<16}", "p50 / p99 frame");
+    for (const auto& c : columns)
+        table += fmt::format("{:>14}", c);
+    table += "\n";
+    for (const std::string& scheme : o.schemes) {
+        table += fmt::format("{:<16}", scheme);
+        for (const auto& c : columns)
+            table += fmt::format(
+                "{:>14}", fmt::format("{:.3f}/{:.3f}", cells[c][scheme].p50, cells[c][scheme].p99));
+        table += "\n";
+    }
+    if (!o.plot.empty())
+        if (Status s = write_plot(o, cells); !s) return s.error();
+    return table;
+}
+
+}  // namespace pathfarm::sim
