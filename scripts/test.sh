@@ -13,7 +13,7 @@ echo "== tests"
 ctest --test-dir "$root/build/ci" -j "$jobs" --output-on-failure --timeout 120
 
 echo "== pure libraries under ASan + UBSan"
-TARGETS="pathfarm_unit_tests pathfarm_coordinator_tests" "$root/scripts/build.sh" "$root/build/asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHFARM_SANITIZE=ON \
+TARGETS="pathfarm_unit_tests pathfarm_coordinator_tests pathfarm_balance_sim_tests" "$root/scripts/build.sh" "$root/build/asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHFARM_SANITIZE=ON \
   -DPATHFARM_WITH_EMBREE=OFF -DPATHFARM_WITH_OPENCL=OFF -DPATHFARM_WERROR=ON
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$root/build/asan" -j "$jobs" -L pure --output-on-failure --timeout 300
