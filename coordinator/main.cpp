@@ -120,8 +120,8 @@ int main(int argc, char** argv) {
     app.add_option("--balancer", f.balancer,
                    "Row balancing: none, robin-hood, perfect, perfect-smooth, cost-predictive")
         ->capture_default_str()
-        ->check(
-            CLI::IsMember({"none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive"}));
+        ->check(CLI::IsMember(
+            {"none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive", "ours"}));
     app.add_option(
         "--record-costs", f.record_costs,
         "Per frame and work unit: frame,unit,cost_us (record with one tracer, for the simulator)");

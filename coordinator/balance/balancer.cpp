@@ -171,7 +171,7 @@ std::unique_ptr<Balancer> make_balancer(const std::string& name, double smooth_a
     if (name == "robin-hood") return std::make_unique<RobinHood>();
     if (name == "perfect") return std::make_unique<Perfect>(1.0);
     if (name == "perfect-smooth") return std::make_unique<Perfect>(smooth_alpha);
-    if (name == "cost-predictive") return std::make_unique<CostPredictive>();
+    if (name == "cost-predictive" || name == "ours") return std::make_unique<CostPredictive>();
     return nullptr;
 }
 

@@ -36,7 +36,8 @@ public:
     virtual std::vector<RowRange> assign(const BalanceInput& input) = 0;
 };
 
-// none, robin-hood, perfect, perfect-smooth (alpha), cost-predictive (ours).
+// none, robin-hood, perfect, perfect-smooth (alpha), cost-predictive (also "ours"); nullptr
+// for an unknown name.
 std::unique_ptr<Balancer> make_balancer(const std::string& name, double smooth_alpha = 0.25);
 std::vector<std::string> balancer_names();
 

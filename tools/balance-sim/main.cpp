@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option(
         "--trace", o.trace,
-        "A frame,unit,cost_us trace to use for every camera instead of the shipped ones");
+        "A frame,unit,cost_us trace for every camera instead of the shipped ones, or generated");
     app.add_option("--traces-dir", o.traces_dir,
                    "Folder of the shipped traces (default: beside this tool's sources)")
         ->capture_default_str();

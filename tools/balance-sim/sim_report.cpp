@@ -101,8 +101,13 @@ Result<std::string> run_report(const ReportOptions& o) {
         if (tracers < 1 || tracers > 64)
             return make_error(ErrorCode::invalid_argument, "--tracers {}: must be 1..64", tracers);
         for (const std::string& camera : o.cameras) {
+            // "generated": a synthetic band drifting 0.3 (slow) or 3 (fast) units a frame.
             auto trace =
-                read_cost_trace(o.trace.empty() ? o.traces_dir + "/" + camera + ".csv" : o.trace);
+                o.trace == "generated"
+                    ? Result<CostTrace>(generate_trace(45, o.sim.frames,
+                                                       camera == "fast" ? 3.0 : 0.3, o.sim.seed))
+                    : read_cost_trace(o.trace.empty() ? o.traces_dir + "/" + camera + ".csv"
+                                                      : o.trace);
             if (!trace) return trace.error();
             const std::string column = fmt::format("{} {}", tracers, camera);
             columns.push_back(column);
