@@ -2,10 +2,12 @@
 // commits and renders, so rendering never blocks the connection.
 #include "tracer-node/tracer_daemon.h"
 
+#include <algorithm>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 
@@ -33,6 +35,14 @@ public:
         if (!ok) e.reset();  // handled as malformed by the worker
         if (e && e->has_commit())
             newest_commit_ = std::max(newest_commit_.load(), e->commit().frame());
+        if (e && e->has_assignment() && e->assignment().truncate_at() > 0) {
+            // Control, not work: the render in progress must see it now, not after it ends.
+            const uint64_t frame = e->assignment().frame();
+            if (frame != truncation_frame_) truncations_.clear();
+            truncation_frame_ = frame;
+            truncations_.push_back(e->assignment().truncate_at());
+            return;
+        }
         queue_.push_back(std::move(e));
         cv_.notify_one();
     }
@@ -53,12 +63,21 @@ public:
         return e;
     }
     uint64_t newest_commit() const { return newest_commit_; }
+    // Whether row y of the assignment [a.y0, a.y1) of its frame went to another tracer.
+    bool truncated(const pb::FrameAssignment& a, uint32_t y) const {
+        std::lock_guard lock(mutex_);
+        if (a.frame() != truncation_frame_) return false;
+        return std::any_of(truncations_.begin(), truncations_.end(),
+                           [&](uint32_t at) { return a.y0() < at && at < a.y1() && at <= y; });
+    }
 
 private:
-    std::mutex mutex_;
+    mutable std::mutex mutex_;
     std::condition_variable cv_;
     std::deque<std::unique_ptr<pb::Envelope>> queue_;
     std::atomic<uint64_t> newest_commit_{0};
+    uint64_t truncation_frame_ = 0;
+    std::vector<uint32_t> truncations_;  // rows where this frame's assignments now end
     bool closed_ = false;
 };
 
@@ -109,6 +128,7 @@ private:
         for (int y = int(a.y0()); y < int(a.y1()); y += tile_rows) {
             if (inbox_.newest_commit() > a.commit())
                 return {};  // the frame closed: do not finish stale rows
+            if (inbox_.truncated(a, uint32_t(y))) return {};  // the rest went to another tracer
             if (Status s = render_tile(a, job, y, std::min(int(a.y1()), y + tile_rows)); !s)
                 return s;
         }
@@ -122,6 +142,10 @@ private:
         const Timer tile_timer;
         for (int y = y0; y < y1; y += kRowsPerWorkUnit) {        // one work unit at a time, timed
             if (inbox_.newest_commit() > a.commit()) return {};  // the frame closed meanwhile
+            if (inbox_.truncated(a, uint32_t(y))) {  // send what is done; the rest went elsewhere
+                y1 = y;
+                break;
+            }
             job.y0 = y;
             job.y1 = std::min(y1, y + kRowsPerWorkUnit);
             const Timer unit;
@@ -135,6 +159,8 @@ private:
             tile->add_unit_cost_us(uint32_t(unit_s * 1e6));
             tile->add_unit_rays(stats->counters.rays);
         }
+        if (y1 == y0) return {};
+        rgb.resize(std::size_t(y1 - y0) * a.width() * 3);
         e.set_version(net::kProtocolVersion);
         tile->set_frame(a.frame());
         tile->set_commit(a.commit());

@@ -111,7 +111,10 @@ public:
         for (std::size_t i = 0; i < in.last.size(); ++i) {
             const int u0 = in.last[i].rows.y0 / kRowsPerWorkUnit,
                       u1 = (in.last[i].rows.y1 + kRowsPerWorkUnit - 1) / kRowsPerWorkUnit;
-            speed[i] = (prefix[std::size_t(u1)] - prefix[std::size_t(u0)]) / in.last[i].render_ms;
+            speed[i] =
+                in.last[i].cost_per_ms > 0.0
+                    ? in.last[i].cost_per_ms
+                    : (prefix[std::size_t(u1)] - prefix[std::size_t(u0)]) / in.last[i].render_ms;
         }
         const double total_speed = std::accumulate(speed.begin(), speed.end(), 0.0);
         std::vector<int> counts;

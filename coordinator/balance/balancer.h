@@ -15,6 +15,9 @@ namespace pathfarm::coord {
 struct TracerFrame {
     RowRange rows;           // its range (empty: it did not render last frame, e.g. it just joined)
     double render_ms = 0.0;  // measured time for those rows
+    // Cost (in BalanceInput::unit_cost's measure) it delivered per millisecond, when known. It
+    // differs from the cost of `rows` over render_ms when rows moved between tracers mid-frame.
+    double cost_per_ms = 0.0;
 };
 
 struct BalanceInput {

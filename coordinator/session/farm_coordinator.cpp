@@ -105,6 +105,9 @@ private:
     void on_tile(uint64_t id, const std::string& bytes);
     void on_tracer_closed(uint64_t id);
     void steal_for(uint64_t id);  // holds mutex_: an idle tracer takes part of another's rows
+    std::vector<double> unit_cost_map() const;                                  // holds mutex_
+    double delivered_cost(uint64_t id, const std::vector<double>& cost) const;  // holds mutex_
+    int delivered_rows(uint64_t id) const;  // holds mutex_: rows of this frame it rendered
     // --- frame loop (callers hold mutex_ where noted)
     PreparedFrame prepare(uint64_t frame);
     void sync_and_assign(const PreparedFrame& p);                       // holds mutex_
@@ -126,8 +129,8 @@ private:
     std::size_t tile_bytes_ = 0;
     std::unique_ptr<Balancer> balancer_;
     bool steal_ = false;  // idle tracers take rows of the busiest (the cost-predictive scheme)
-    std::vector<double> unit_rays_, unit_us_,
-        last_unit_rays_;  // per work unit of this / last frame
+    std::vector<double> unit_rays_, unit_us_, last_unit_cost_;  // per work unit, this / last frame
+    std::vector<uint64_t> unit_owner_;                          // who delivered each unit
     std::optional<Mat4> pending_camera_;
     uint64_t last_input_ = 0;
     std::ofstream stats_, tracer_stats_, stages_, costs_;
@@ -197,10 +200,44 @@ void Farm::on_tile(uint64_t id, const std::string& bytes) {
     const std::size_t unit0 = std::size_t(range.y0 / kRowsPerWorkUnit);
     for (int k = 0; k < t.unit_rays_size() && unit0 + std::size_t(k) < unit_rays_.size(); ++k)
         unit_rays_[unit0 + std::size_t(k)] = double(t.unit_rays(k));
-    for (int k = 0; k < t.unit_cost_us_size() && unit0 + std::size_t(k) < unit_us_.size(); ++k)
+    for (int k = 0; k < t.unit_cost_us_size() && unit0 + std::size_t(k) < unit_us_.size(); ++k) {
         unit_us_[unit0 + std::size_t(k)] = double(t.unit_cost_us(k));
+        unit_owner_[unit0 + std::size_t(k)] = id;
+    }
     tile_bytes_ += bytes.size();
     cv_.notify_all();
+}
+
+// Last frame's per-unit cost in one tracer-independent scale: each unit's measured time (which
+// sees what its rays cost to shade) times the rays per microsecond of the tracer that rendered
+// it (which removes that tracer's speed).
+std::vector<double> Farm::unit_cost_map() const {
+    std::map<uint64_t, std::pair<double, double>> per_tracer;  // rays, us
+    for (std::size_t u = 0; u < unit_us_.size(); ++u) {
+        per_tracer[unit_owner_[u]].first += unit_rays_[u];
+        per_tracer[unit_owner_[u]].second += unit_us_[u];
+    }
+    std::vector<double> cost(unit_us_.size());
+    for (std::size_t u = 0; u < cost.size(); ++u) {
+        const auto& [rays, us] = per_tracer[unit_owner_[u]];
+        cost[u] = us > 0.0 ? unit_us_[u] * rays / us : unit_rays_[u];
+    }
+    return cost;
+}
+
+int Farm::delivered_rows(uint64_t id) const {
+    int rows = 0;
+    for (std::size_t u = 0; u < unit_owner_.size(); ++u)
+        if (unit_owner_[u] == id)
+            rows += std::min(o_.height, int(u + 1) * kRowsPerWorkUnit) - int(u) * kRowsPerWorkUnit;
+    return rows;
+}
+
+double Farm::delivered_cost(uint64_t id, const std::vector<double>& cost) const {
+    double sum = 0.0;
+    for (std::size_t u = 0; u < cost.size(); ++u)
+        if (unit_owner_[u] == id) sum += cost[u];
+    return sum;
 }
 
 void Farm::steal_for(uint64_t id) {
@@ -209,6 +246,7 @@ void Farm::steal_for(uint64_t id) {
         if (!assembler_->missing(r).empty()) return;  // still busy with its own rows
     // The tracer with the most rows still missing gives up the tail half of its last gap.
     std::optional<RowRange> gap;
+    uint64_t victim = 0;
     int most = 0;
     for (const auto& [other, t] : tracers_) {
         if (other == id || t.replica_commit != frame_) continue;
@@ -222,13 +260,25 @@ void Farm::steal_for(uint64_t id) {
         if (missing > most) {
             most = missing;
             gap = last;
+            victim = other;
         }
     }
     // One unit is probably being rendered already; taking less than two is not worth a message.
     if (!gap || gap->rows() < 2 * kRowsPerWorkUnit) return;
     const int units = (gap->rows() / kRowsPerWorkUnit) / 2;
     const int y0 = std::max(gap->y0, gap->y1 - units * kRowsPerWorkUnit);
-    assign(id, me, {y0 - y0 % kRowsPerWorkUnit, gap->y1});
+    const RowRange tail{y0 - y0 % kRowsPerWorkUnit, gap->y1};
+    assign(id, me, tail);
+    // The victim stops before the tail instead of rendering it too; its rows end there now.
+    TracerState& v = tracers_.at(victim);
+    for (RowRange& r : v.assigned)
+        if (r.y0 < tail.y0 && tail.y0 < r.y1) r.y1 = tail.y0;
+    pb::Envelope e;
+    e.set_version(net::kProtocolVersion);
+    e.mutable_assignment()->set_frame(frame_);
+    e.mutable_assignment()->set_commit(frame_);
+    e.mutable_assignment()->set_truncate_at(uint32_t(tail.y0));
+    v.session->send(e.SerializeAsString());
 }
 
 void Farm::on_tracer_closed(uint64_t id) {
@@ -321,7 +371,7 @@ void Farm::sync_and_assign(const PreparedFrame& p) {
         t.render_ms = 0.0;
         synced.push_back(id);
     }
-    BalanceInput in{o_.height, {}, last_unit_rays_};
+    BalanceInput in{o_.height, {}, last_unit_cost_};
     for (uint64_t id : synced) {  // tracers that did not render the previous frame are new to it
         const TracerState& t = tracers_.at(id);
         in.last.push_back(p.frame > 0 && t.measured_frame == p.frame - 1 ? t.measured
@@ -393,15 +443,17 @@ void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
         ++n;
         if (tracer_stats_.is_open())
             tracer_stats_ << frame_ << ',' << t.name << ',' << t.first_assignment.y0 << ','
-                          << t.first_assignment.rows() << ',' << t.render_ms << '\n';
+                          << t.first_assignment.rows() << ',' << t.render_ms << ','
+                          << delivered_rows(id) << '\n';
     }
     const double idle_pct = n > 0 && t_max > 0.0 ? 100.0 * idle / (n * t_max) : 0.0;
+    last_unit_cost_ = unit_cost_map();
     for (auto& [id, t] : tracers_)
         if (t.replica_commit == frame_ && t.render_ms > 0.0) {
             t.measured_frame = frame_;
-            t.measured = TracerFrame{t.first_assignment, t.render_ms};
+            t.measured = TracerFrame{t.first_assignment, t.render_ms,
+                                     delivered_cost(id, last_unit_cost_) / t.render_ms};
         }
-    last_unit_rays_ = unit_rays_;
     if (costs_.is_open())
         for (std::size_t u = 0; u < unit_us_.size(); ++u)
             costs_ << frame_ << ',' << u << ',' << unit_us_[u] << '\n';
@@ -471,7 +523,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
     }
     if (!o_.tracer_stats_csv.empty()) {
         tracer_stats_.open(o_.tracer_stats_csv);
-        tracer_stats_ << "frame,tracer,first_row,rows,render_ms\n";
+        tracer_stats_ << "frame,tracer,first_row,rows,render_ms,rows_delivered\n";
     }
     if (!o_.dump_frames.empty()) std::filesystem::create_directories(o_.dump_frames);
     PreparedFrame next = prepare(0);
@@ -491,6 +543,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
             tile_bytes_ = 0;
             unit_rays_.assign(std::size_t(work_units(o_.height)), 0.0);
             unit_us_.assign(unit_rays_.size(), 0.0);
+            unit_owner_.assign(unit_rays_.size(), 0);
             stage.reset();
             sync_and_assign(next);
         }

@@ -146,7 +146,9 @@ INSTANTIATE_TEST_SUITE_P(Tracers, FarmDeterminism, ::testing::Values(1, 2, 3));
 
 TEST(FarmFaults, KilledTracersRowsAreReassignedAndTheFrameCompletes) {
     Farm farm;
-    farm.start({"--frames", "4", "--min-tracers", "2", "--deadline-ms", "60000"});
+    // No stealing: the doomed tracer must still own unrendered rows when it dies.
+    farm.start(
+        {"--frames", "4", "--min-tracers", "2", "--deadline-ms", "60000", "--balancer", "none"});
     farm.add_tracer("steady", {"--max-reconnects", "0"});
     Process& doomed = farm.add_tracer("doomed", {"--slowdown", "400", "--max-reconnects", "0"});
     ASSERT_TRUE(test::wait_for_text(farm.dir + "/coordinator.log", "\"doomed\" connected", 10s));
@@ -158,6 +160,28 @@ TEST(FarmFaults, KilledTracersRowsAreReassignedAndTheFrameCompletes) {
     EXPECT_EQ(farm.csv("stats.csv").size(), 4u) << "no frame lost";
     EXPECT_TRUE(test::images_identical(farm.frame(0), farm.reference(0)))
         << "re-issued rows render identically";
+}
+
+// A tracer 400 times slower keeps only what it rendered before the fast one took its rows: it
+// stops where its rows were cut instead of rendering them again, and the frame is unchanged.
+TEST(FarmBalance, IdleTracerTakesTheSlowTracersRowsAndTheSlowOneStopsThere) {
+    Farm farm;
+    farm.start({"--frames", "1", "--min-tracers", "2", "--balancer", "cost-predictive"});
+    farm.add_tracer("fast", {"--max-reconnects", "0"});
+    farm.add_tracer("slow", {"--slowdown", "400", "--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    EXPECT_TRUE(test::images_identical(farm.frame(0), farm.reference(0)));
+    int slow_assigned = 0, slow_delivered = -1, total = 0;
+    for (const auto& row : farm.csv("tracers.csv")) {
+        total += std::stoi(row.at(5));
+        if (row.at(1) != "slow") continue;
+        slow_assigned = std::stoi(row.at(3));
+        slow_delivered = std::stoi(row.at(5));
+    }
+    EXPECT_GE(slow_assigned, 20) << "the first frame splits the 50 rows about evenly";
+    EXPECT_GE(slow_delivered, 0) << "the slow tracer rendered something";
+    EXPECT_LE(slow_delivered, slow_assigned / 2) << "it stopped where its rows were cut";
+    EXPECT_EQ(total, 50) << "every row delivered once";
 }
 
 TEST(FarmFaults, LateTracerRendersWithinThreeFrames) {
