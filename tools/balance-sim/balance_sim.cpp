@@ -23,8 +23,10 @@ struct Worker {
     std::vector<int> queue;  // unit indices, front first
     std::size_t next = 0;    // first unit not yet started
     double clock = 0.0, busy = 0.0;
-    double own_ms = 0.0;  // time spent on its own assignment (what it reports)
-    bool done = false;    // idle and nothing left to take
+    double own_ms = 0.0;     // time spent on its own assignment (what it reports)
+    double done_cost = 0.0;  // cost of every unit it rendered, its own and taken ones
+    double work_ms = 0.0;    // time spent rendering them, without messages
+    bool done = false;       // idle and nothing left to take
 };
 
 }  // namespace
@@ -101,6 +103,8 @@ std::vector<FrameResult> simulate(coord::Balancer& balancer, const SimOptions& o
             const double t = cost[std::size_t(unit)] / me.speed + (stolen ? o.latency_ms : 0.0);
             me.clock += t;
             me.busy += t;
+            me.done_cost += cost[std::size_t(unit)];
+            me.work_ms += cost[std::size_t(unit)] / me.speed;
             if (!stolen) me.own_ms += t;
         }
         // Tile messages: one per units_per_tile units of each tracer.
@@ -118,7 +122,8 @@ std::vector<FrameResult> simulate(coord::Balancer& balancer, const SimOptions& o
                            t_max > 0.0 ? 100.0 * idle / (double(w.size()) * t_max) : 0.0});
         for (std::size_t i = 0; i < w.size(); ++i)
             last[i] =
-                coord::TracerFrame{ranges[i], ranges[i].empty() ? 0.0 : w[i].own_ms + o.latency_ms};
+                coord::TracerFrame{ranges[i], ranges[i].empty() ? 0.0 : w[i].own_ms + o.latency_ms,
+                                   w[i].work_ms > 0.0 ? w[i].done_cost / w[i].work_ms : 0.0};
         last_costs = cost;  // a speed-independent cost per unit, as the farm's rays are
     }
     return results;

@@ -95,6 +95,15 @@ TEST(Balancers, CostPredictiveEqualisesPredictedFinishTimes) {
               (std::vector<RowRange>{{0, 8}, {8, 40}}));
 }
 
+TEST(Balancers, CostPredictivePrefersTheDeliveredCostRate) {
+    // Same cost map; the ranges and times say equal speeds, but rows moved mid-frame and each
+    // tracer reports what it really delivered per ms: tracer 1 twice as fast, as above.
+    BalanceInput in{
+        40, {{{0, 12}, 9.0, 1.0}, {{12, 40}, 11.0, 2.0}}, {3, 3, 3, 3, 3, 1, 1, 1, 1, 1}};
+    EXPECT_EQ(make_balancer("cost-predictive")->assign(in),
+              (std::vector<RowRange>{{0, 8}, {8, 40}}));
+}
+
 TEST(Balancers, UnknownNameIsNull) { EXPECT_EQ(make_balancer("magic"), nullptr); }
 
 }  // namespace
