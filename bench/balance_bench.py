@@ -6,28 +6,15 @@ mean idle % and frame time. CSV and plots under bench/results."""
 import argparse
 import csv
 import os
-import re
 import statistics
 import subprocess
 import tempfile
-import time
 
-from bench_common import ROOT, SCENES, write_csv
+from bench_common import ROOT, SCENES, wait_for, write_csv
 from bench_common import run as run_tool
 
 SCHEMES = ["none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive"]
 TRACES = os.path.join(ROOT, "tools", "balance-sim", "traces")
-
-
-def wait_for(path, pattern, timeout=60):
-    end = time.time() + timeout
-    while time.time() < end:
-        if os.path.exists(path):
-            m = re.search(pattern, open(path).read())
-            if m:
-                return m
-        time.sleep(0.05)
-    raise SystemExit(f"balance_bench: {pattern} never appeared in {path}")
 
 
 def live(build, scheme, frames, work):
@@ -38,11 +25,11 @@ def live(build, scheme, frames, work):
         [f"{build}/coordinator/pathfarm-coordinator", "--scene", f"{SCENES}/dabrovic-sponza/sponza.obj", "--tracer-port",
          "0", "--client-port", "0", "--width", "320", "--height", "180", "--spp", "4", "--frames", str(frames),
          "--min-tracers", "2", "--balancer", scheme, "--stats-csv", stats], stdout=open(log, "w"), stderr=subprocess.STDOUT)
-    ports = wait_for(log, r"tracer_port=(\d+) client_port=(\d+)")
+    ports = wait_for(log, r"tracer_port=(\d+) client_port=(\d+)", "balance_bench")
     client = subprocess.Popen([f"{build}/client/pathfarm-client", "--connect", f"127.0.0.1:{ports.group(2)}", "--headless",
                                "--frames", str(frames), "--script", os.path.join(TRACES, "slow_path.txt")],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    wait_for(log, '"headless-client" connected')
+    wait_for(log, '"headless-client" connected', "balance_bench")
     tracers = [subprocess.Popen([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{ports.group(1)}",
                                  "--threads", "1", "--name", name, "--max-reconnects", "0"] + extra,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

@@ -1,8 +1,10 @@
 """Helpers shared by the benchmark scripts: running a tool and writing CSV."""
 import csv
 import os
+import re
 import subprocess
 import sys
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = os.environ.get("PATHFARM_SCENES", os.path.join(ROOT, "..", "shared", "scenes"))
@@ -21,3 +23,15 @@ def write_csv(path, header, rows):
         w = csv.writer(f)
         w.writerow(header)
         w.writerows(rows)
+
+
+def wait_for(path, pattern, who, timeout=60):
+    """The first match of pattern in the file at path, polled until it appears or timeout."""
+    end = time.time() + timeout
+    while time.time() < end:
+        if os.path.exists(path):
+            m = re.search(pattern, open(path).read())
+            if m:
+                return m
+        time.sleep(0.05)
+    raise SystemExit(f"{who}: {pattern} never appeared in {path}")

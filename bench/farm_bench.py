@@ -12,25 +12,13 @@ import re
 import statistics
 import subprocess
 import tempfile
-import time
 
-from bench_common import ROOT, write_csv
+from bench_common import ROOT, wait_for, write_csv
 from bench_common import run as run_tool
 
 
 def start(cmd, log):
     return subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT)
-
-
-def wait_for(path, pattern, timeout=30):
-    end = time.time() + timeout
-    while time.time() < end:
-        if os.path.exists(path):
-            m = re.search(pattern, open(path).read())
-            if m:
-                return m
-        time.sleep(0.05)
-    raise SystemExit(f"farm_bench: {pattern} never appeared in {path}")
 
 
 def farm(build, work, tracers, threads, a):
@@ -41,14 +29,14 @@ def farm(build, work, tracers, threads, a):
                          "--client-port", "0", "--width", str(a.width), "--height", str(a.height), "--spp", str(a.spp),
                          "--frames", str(a.frames), "--min-tracers", str(tracers), "--stats-csv", f"{work}/stats.csv",
                          "--stages-csv", f"{work}/stages.csv", "--dump-frames", f"{work}/dump"], log)
-    port = wait_for(log, r"tracer_port=(\d+)").group(1)
+    port = wait_for(log, r"tracer_port=(\d+)", "farm_bench").group(1)
     procs = [start([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{port}", "--threads",
                     str(threads), "--name", f"t{i}", "--max-reconnects", "0"], os.path.join(work, f"t{i}.log"))
              for i in range(tracers)]
     coordinator.wait(timeout=600)
     for p in procs:
         p.wait(timeout=30)
-    fps = float(wait_for(log, r"fps=([0-9.]+)").group(1))
+    fps = float(wait_for(log, r"fps=([0-9.]+)", "farm_bench").group(1))
     stats = list(csv.DictReader(open(f"{work}/stats.csv")))
     stages = list(csv.DictReader(open(f"{work}/stages.csv")))
     later = stats[1:]  # frame 0 carries the snapshot
@@ -89,6 +77,9 @@ def main():
     p.add_argument("--frames", type=int, default=30)
     p.add_argument("--rounds", type=int, default=3)
     a = p.parse_args()
+    if a.frames < 3:
+        raise SystemExit(f"farm_bench: --frames {a.frames}: need at least 3 (frame 0 carries the snapshot)")
+    checked = min(5, a.frames - 1)  # the frame compared with pathfarm-render
     os.makedirs(a.out, exist_ok=True)
     runs = []
     for r in range(a.rounds):  # alternate the three set-ups so machine noise hits all alike
@@ -101,9 +92,9 @@ def main():
                 if r == 0 and name == "farm_2x1":
                     render_ref = os.path.join(work, "ref.pfm")
                     run_tool([f"{a.build}/tools/pathfarm-render", "--scene", "builtin:default", "--width", str(a.width),
-                              "--height", str(a.height), "--spp", str(a.spp), "--frame", "5", "--out", render_ref,
+                              "--height", str(a.height), "--spp", str(a.spp), "--frame", str(checked), "--out", render_ref,
                               "--log-level", "error"], "farm_bench")
-                    error = rmse(os.path.join(work, "dump", "frame_000005.pfm"), render_ref)
+                    error = rmse(os.path.join(work, "dump", f"frame_{checked:06d}.pfm"), render_ref)
                 runs.append([r, name, fps, round(wire), st["send_ms"], st["prepare_next_ms"], st["wait_tiles_ms"],
                              st["assemble_and_stream_ms"], idle, ""])
     header = ["round", "setup", "frames_per_s", "wire_bytes_per_frame", "send_ms", "prepare_next_ms",
@@ -118,7 +109,7 @@ def main():
     print("setup,median_frames_per_s,ratio_to_render")
     for s in summary:
         print(",".join(map(str, s)))
-    print(f"rmse_farm_frame5_vs_render={error:.3g}")
+    print(f"rmse_farm_frame{checked}_vs_render={error:.3g}")
     subprocess.run(["gnuplot"], input=f"""
 set datafile separator ','
 set terminal pngcairo size 800,500
