@@ -17,7 +17,7 @@ SCHEMES = ["none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive"]
 TRACES = os.path.join(ROOT, "tools", "balance-sim", "traces")
 
 
-def live(build, scheme, frames, work):
+def live(build, scheme, frames, work, hiccup_p=0.0):
     os.environ["PATHFARM_SECRET"] = "balance-bench"
     log = os.path.join(work, "coordinator.log")
     stats = os.path.join(work, "stats.csv")
@@ -33,12 +33,17 @@ def live(build, scheme, frames, work):
     tracers = [subprocess.Popen([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{ports.group(1)}",
                                  "--threads", "1", "--name", name, "--max-reconnects", "0"] + extra,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-               for name, extra in (("fast", []), ("slow", ["--slowdown", "1.7"]))]
+               for name, extra in (("fast", ["--hiccup-p", str(hiccup_p), "--hiccup-seed", "1"]),
+                                   ("slow", ["--slowdown", "1.7", "--hiccup-p", str(hiccup_p), "--hiccup-seed", "2"]))]
     coordinator.wait(timeout=1800)
     for p in tracers + [client]:
         p.wait(timeout=60)
     rows = list(csv.DictReader(open(stats)))[8:]  # skip warm-up (the scripted camera, first measurements)
-    return statistics.mean(float(r["idle_pct"]) for r in rows), statistics.median(float(r["frame_ms"]) for r in rows)
+    frame_ms = sorted(float(r["frame_ms"]) for r in rows)
+    return {"idle_pct": round(statistics.mean(float(r["idle_pct"]) for r in rows), 2),
+            "median_frame_ms": round(statistics.median(frame_ms), 1),
+            "mean_frame_ms": round(statistics.mean(frame_ms), 1),
+            "p95_frame_ms": round(frame_ms[min(len(frame_ms) - 1, int(0.95 * len(frame_ms)))], 1)}
 
 
 def main():
@@ -47,6 +52,9 @@ def main():
     p.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     p.add_argument("--frames", type=int, default=128)
     p.add_argument("--no-live", action="store_true")
+    p.add_argument("--schemes", default=",".join(SCHEMES), help="live schemes, comma-separated")
+    p.add_argument("--hiccup-p", type=float, default=0.0,
+                   help="live: each tracer renders a frame 2x slower with this probability")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     table = run_tool([f"{a.build}/tools/pathfarm-balance-sim", "--tracers", "2,3", "--camera", "slow,fast", "--frames",
@@ -56,13 +64,15 @@ def main():
     if a.no_live:
         return
     rows = []
-    for scheme in SCHEMES:
+    for scheme in a.schemes.split(","):
         with tempfile.TemporaryDirectory() as work:
-            idle, frame_ms = live(a.build, scheme, a.frames, work)
-        rows.append([scheme, round(idle, 2), round(frame_ms, 1)])
-        print(f"live 2 tracers (1.0, 1/1.7): {scheme:16} idle {idle:5.1f} %  median frame {frame_ms:6.1f} ms", flush=True)
-    write_csv(os.path.join(a.out, "balance_live.csv"), ["scheme", "idle_pct", "median_frame_ms"], rows)
-
+            m = live(a.build, scheme, a.frames, work, a.hiccup_p)
+        rows.append([scheme] + list(m.values()))
+        print(f"live 2 tracers (1.0, 1/1.7), hiccup p {a.hiccup_p}: {scheme:16} idle {m['idle_pct']:5.1f} %  frame ms "
+              f"median {m['median_frame_ms']:6.1f} mean {m['mean_frame_ms']:6.1f} p95 {m['p95_frame_ms']:6.1f}", flush=True)
+    name = "balance_live.csv" if a.hiccup_p == 0.0 else f"balance_live_hiccup{a.hiccup_p:g}.csv"
+    write_csv(os.path.join(a.out, name), ["scheme", "idle_pct", "median_frame_ms", "mean_frame_ms", "p95_frame_ms"],
+              rows)
 
 if __name__ == "__main__":
     main()

@@ -30,6 +30,11 @@ int main(int argc, char** argv) {
     app.add_option("--slowdown", o.slowdown,
                    "Run X times slower (waits (X-1) x render time), for tests")
         ->capture_default_str();
+    app.add_option("--hiccup-p", o.hiccup_p,
+                   "Probability per frame of rendering it 2x slower, for benchmarks")
+        ->capture_default_str();
+    app.add_option("--hiccup-seed", o.hiccup_seed, "Seed of the hiccup draws")
+        ->capture_default_str();
     app.add_option("--max-reconnects", o.max_reconnects,
                    "Give up after this many failed connections (-1: never)")
         ->capture_default_str();

@@ -15,6 +15,7 @@
 #include "common/film/float_codec.h"
 #include "common/net/framing.h"
 #include "common/net/session.h"
+#include "common/sampling/rng.h"
 #include "pathfarm/wire/v1/envelope.pb.h"
 #include "tracer-node/backend/render_backend.h"
 #include "tracer-node/replica/replica.h"
@@ -140,6 +141,7 @@ private:
         pb::Envelope e;
         pb::Tile* tile = e.mutable_tile();
         const Timer tile_timer;
+        const double slowdown = frame_slowdown(options_, a.frame());
         for (int y = y0; y < y1; y += kRowsPerWorkUnit) {        // one work unit at a time, timed
             if (inbox_.newest_commit() > a.commit()) return {};  // the frame closed meanwhile
             if (inbox_.truncated(a, uint32_t(y))) {  // send what is done; the rest went elsewhere
@@ -153,9 +155,9 @@ private:
                 backend_.render_rows(job, rgb.data() + std::size_t(y - y0) * a.width() * 3);
             if (!stats) return stats.error();
             const double unit_s = unit.seconds();
-            if (options_.slowdown > 1.0)  // an X times slower machine, unit by unit
+            if (slowdown > 1.0)  // an X times slower machine, unit by unit
                 std::this_thread::sleep_for(
-                    std::chrono::duration<double>((options_.slowdown - 1.0) * unit_s));
+                    std::chrono::duration<double>((slowdown - 1.0) * unit_s));
             tile->add_unit_cost_us(uint32_t(unit_s * 1e6));
             tile->add_unit_rays(stats->counters.rays);
         }
@@ -196,6 +198,11 @@ void serve_session(const TracerOptions& o, RenderBackend& backend, net::Session&
 
 }  // namespace
 
+double frame_slowdown(const TracerOptions& o, uint64_t frame) {
+    Pcg32 rng(frame, o.hiccup_seed);
+    return rng.next_float() < o.hiccup_p ? 2.0 * o.slowdown : o.slowdown;
+}
+
 Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     auto kind = parse_backend_kind(o.backend);
     if (!kind) return kind.error();
@@ -203,6 +210,9 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     if (!backend) return backend.error();
     if (!(o.slowdown >= 1.0))
         return make_error(ErrorCode::invalid_argument, "--slowdown {}: must be >= 1", o.slowdown);
+    if (!(o.hiccup_p >= 0.0 && o.hiccup_p <= 1.0))
+        return make_error(ErrorCode::invalid_argument, "--hiccup-p {}: must be in [0, 1]",
+                          o.hiccup_p);
     net::NetService net;
     net::ClientConfig config;
     config.host = o.host;

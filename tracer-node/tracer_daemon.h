@@ -17,9 +17,16 @@ struct TracerOptions {
     int threads = 0;
     std::string secret;
     std::string name = "tracer";
-    double slowdown = 1.0;    // >1: wait (slowdown - 1) x the render time after each tile
+    double slowdown = 1.0;  // >1: wait (slowdown - 1) x the render time after each tile
+    // Probability per frame that this tracer renders it twice as slowly (a hiccup: another job,
+    // thermal throttling); drawn from (hiccup_seed, frame) so runs repeat. For benchmarks.
+    double hiccup_p = 0.0;
+    uint32_t hiccup_seed = 1;
     int max_reconnects = -1;  // -1: forever
 };
+
+// How many times slower than its real speed the tracer renders `frame` (slowdown and hiccups).
+double frame_slowdown(const TracerOptions& o, uint64_t frame);
 
 inline constexpr int kRowsPerWorkUnit = 4;
 inline constexpr int kUnitsPerTile = 4;

@@ -17,6 +17,7 @@
 
 #include "tests/support/process.h"
 #include "tests/support/test_env.h"
+#include "tracer-node/tracer_daemon.h"
 
 namespace pathfarm {
 namespace {
@@ -239,6 +240,36 @@ TEST(FarmCli, BadInputIsAOneLineError) {
     EXPECT_EQ(bad_address.wait(10s), std::optional<int>(2));
     Process no_window({kClient, "--connect", "127.0.0.1:1"}, farm.dir + "/c.log");
     EXPECT_EQ(no_window.wait(10s), std::optional<int>(2));
+    setenv("PATHFARM_SECRET", "farm-test-secret", 1);
+    Process bad_hiccup({kTracer, "--coordinator", "127.0.0.1:1", "--hiccup-p", "1.5"},
+                       farm.dir + "/d.log");
+    EXPECT_EQ(bad_hiccup.wait(10s), std::optional<int>(2));
+    EXPECT_NE(test::read_file(farm.dir + "/d.log").find("--hiccup-p 1.5: must be in [0, 1]"),
+              std::string::npos);
+}
+
+// Injected hiccups (for live balancing benchmarks) repeat for a seed and hit the asked fraction.
+TEST(TracerHiccups, FrameSlowdownIsSeededAndHitsTheRequestedFraction) {
+    tracer::TracerOptions o;
+    o.slowdown = 1.5;
+    o.hiccup_p = 0.1;
+    int doubled = 0;
+    for (uint64_t f = 0; f < 10000; ++f) {
+        const double s = tracer::frame_slowdown(o, f);
+        ASSERT_TRUE(s == 1.5 || s == 3.0) << s;
+        doubled += s == 3.0;
+        ASSERT_EQ(s, tracer::frame_slowdown(o, f)) << "same seed and frame, same draw";
+    }
+    EXPECT_NEAR(doubled, 1000, 100);  // binomial sd 30
+    tracer::TracerOptions other = o;
+    other.hiccup_seed = 2;
+    int differ = 0;
+    for (uint64_t f = 0; f < 1000; ++f)
+        differ += tracer::frame_slowdown(o, f) != tracer::frame_slowdown(other, f);
+    EXPECT_GT(differ, 50) << "another seed draws other frames";
+    o.hiccup_p = 0.0;
+    for (uint64_t f = 0; f < 1000; ++f)
+        ASSERT_EQ(tracer::frame_slowdown(o, f), 1.5);
 }
 
 }  // namespace
