@@ -130,7 +130,7 @@ private:
     std::unique_ptr<Balancer> balancer_;
     bool steal_ = false;  // idle tracers take rows of the busiest (the cost-predictive scheme)
     std::vector<double> unit_rays_, unit_us_, last_unit_cost_;  // per work unit, this / last frame
-    std::vector<uint64_t> unit_owner_;                          // who delivered each unit
+    std::vector<uint64_t> unit_owner_;  // who delivered each unit (session ids; 0: nobody yet)
     std::optional<Mat4> pending_camera_;
     uint64_t last_input_ = 0;
     std::ofstream stats_, tracer_stats_, stages_, costs_;
