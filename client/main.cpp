@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "client/client.h"
-#include "common/base/log.h"
+#include "common/cli/command_line.h"
 #include "common/net/auth.h"
 
 namespace {
@@ -17,7 +17,7 @@ void request_stop(int) { g_stop = true; }
 
 int main(int argc, char** argv) {
     pathfarm::client::ClientOptions o;
-    std::string connect, secret_file, format = "png", log_level = "info";
+    std::string connect, secret_file, format = "png";
     bool headless = false;
     CLI::App app{"pathfarm-client: the thin game client of a pathfarm farm"};
     app.add_option("--connect", connect, "Coordinator client port, HOST:PORT")->required();
@@ -35,14 +35,8 @@ int main(int argc, char** argv) {
     app.add_option("--script", o.script, "Camera script: lines of FRAME eye_xyz target_xyz");
     app.add_option("--contact-sheet", o.contact_sheet,
                    "PNG with thumbnails of up to 16 evenly spaced frames");
-    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
-        ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
-    }
-    pathfarm::init_logging("pathfarm-client", log_level);
+    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-client"))
+        return *exit_code;
     if (!headless) {
         std::fprintf(stderr,
                      "pathfarm-client: only --headless is available in this build (the window "

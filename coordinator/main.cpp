@@ -7,7 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include "common/base/log.h"
+#include "common/cli/command_line.h"
 #include "common/net/auth.h"
 #include "common/scene/load/scene_loader.h"
 #include "coordinator/animation/animator.h"
@@ -89,7 +89,7 @@ int farm(pathfarm::SceneModel scene, const std::string& clip_name, const std::st
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string scene_spec, export_path, clip_name, secret_file, stats_csv, log_level = "info";
+    std::string scene_spec, export_path, clip_name, secret_file, stats_csv;
     double export_at = 0.0, fps = 30.0;
     int frames = -1;
     bool offline_mode = false;
@@ -151,14 +151,8 @@ int main(int argc, char** argv) {
                    "OBJ file for --export-at (world-space posed triangles)")
         ->needs(at);
     at->needs("--export");
-    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
-        ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
-    }
-    pathfarm::init_logging("pathfarm-coordinator", log_level);
+    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-coordinator"))
+        return *exit_code;
     const bool farm_mode = tracer_port->count() > 0;
     if (export_path.empty() && !offline_mode && !farm_mode) {
         std::fprintf(

@@ -17,6 +17,7 @@ ALLOWED = {
     "common/commit": ["common/base", "common/math", "common/scene", "proto"],
     "common/render": ["common/base", "common/math", "common/sampling", "common/scene"],
     "common/net": ["common/base", "proto"],
+    "common/cli": ["common/base"],
     "coordinator/balance": ["common/base"],
     "coordinator": ["common", "proto"],
     "tracer-node": ["common", "proto"],

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/base/log.h"
+#include "common/cli/command_line.h"
 #include "common/net/auth.h"
 #include "tracer-node/tracer_daemon.h"
 
@@ -17,7 +17,7 @@ void request_stop(int) { g_stop = true; }
 
 int main(int argc, char** argv) {
     pathfarm::tracer::TracerOptions o;
-    std::string coordinator, secret_file, log_level = "info";
+    std::string coordinator, secret_file;
     CLI::App app{"pathfarm-tracer: renders the rows a pathfarm coordinator assigns it"};
     app.add_option("--coordinator", coordinator, "Coordinator tracer port, HOST:PORT")->required();
     app.add_option("--backend", o.backend, "Render backend: embree or opencl")
@@ -38,14 +38,8 @@ int main(int argc, char** argv) {
     app.add_option("--max-reconnects", o.max_reconnects,
                    "Give up after this many failed connections (-1: never)")
         ->capture_default_str();
-    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
-        ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
-    }
-    pathfarm::init_logging("pathfarm-tracer", log_level);
+    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-tracer"))
+        return *exit_code;
     const auto colon = coordinator.rfind(':');
     int port = 0;
     if (colon == std::string::npos || (port = std::atoi(coordinator.c_str() + colon + 1)) <= 0 ||

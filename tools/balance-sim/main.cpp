@@ -6,12 +6,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/base/log.h"
+#include "common/cli/command_line.h"
 #include "tools/balance-sim/sim_report.h"
 
 int main(int argc, char** argv) {
     pathfarm::sim::ReportOptions o;
-    std::string tracers = "2,3", cameras = "slow,fast", schemes = "all", log_level = "warn";
+    std::string tracers = "2,3", cameras = "slow,fast", schemes = "all";
     CLI::App app{"pathfarm-balance-sim: simulate row balancing schemes on cost traces"};
     app.add_option("--tracers", tracers, "Tracer counts to simulate, comma separated")
         ->capture_default_str();
@@ -43,14 +43,9 @@ int main(int argc, char** argv) {
     app.add_option("--csv", o.csv,
                    "CSV: tracers,camera,scheme,idle_pct,p50_frame_rel,p99_frame_rel");
     app.add_option("--plot", o.plot, "PNG: idle % per frame for each scheme");
-    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
-        ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
-    }
-    pathfarm::init_logging("pathfarm-balance-sim", log_level);
+    if (auto exit_code =
+            pathfarm::parse_command_line(app, argc, argv, "pathfarm-balance-sim", "warn"))
+        return *exit_code;
     auto split = [](const std::string& s) {
         std::vector<std::string> out;
         std::stringstream ss(s);

@@ -5,7 +5,7 @@
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>
 
-#include "common/base/log.h"
+#include "common/cli/command_line.h"
 #include "tools/render/render_tool.h"
 
 namespace {
@@ -30,7 +30,7 @@ void add_camera_options(CLI::App& app, pathfarm::tools::RenderToolOptions& o,
 
 int main(int argc, char** argv) {
     pathfarm::tools::RenderToolOptions o;
-    std::string log_level = "info", strategy = "mis";
+    std::string strategy = "mis";
     std::vector<float> look_from, look_at, up;
     CLI::App app{"pathfarm-render: render a scene in one process (scene, integrator, image)"};
     app.add_option("--scene", o.scene,
@@ -65,13 +65,8 @@ int main(int argc, char** argv) {
                    "Reference image of the same size: also print rmse= and rel_mse=");
     app.add_option("--exposure", o.exposure, "Exposure multiplier for PNG output")
         ->capture_default_str();
-    app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
-        ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
-    }
+    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-render"))
+        return *exit_code;
     const std::map<std::string, pathfarm::LightStrategy> strategies{
         {"mis", pathfarm::LightStrategy::mis},
         {"light", pathfarm::LightStrategy::light_only},
@@ -81,7 +76,6 @@ int main(int argc, char** argv) {
     if (!look_from.empty()) o.look_from = to_vec3(look_from);
     if (!look_at.empty()) o.look_at = to_vec3(look_at);
     if (!up.empty()) o.up = to_vec3(up);
-    pathfarm::init_logging("pathfarm-render", log_level);
 
     const auto summary = pathfarm::tools::run_render(o);
     if (!summary) {
