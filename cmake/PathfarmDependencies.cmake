@@ -13,6 +13,7 @@ find_package(zstd CONFIG REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET GLOBAL OpenImageIO>=2.4)
 add_library(OpenImageIO::OpenImageIO ALIAS PkgConfig::OIIO)
+pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET GLOBAL libturbojpeg)
 
 add_compile_definitions(GLM_ENABLE_EXPERIMENTAL)
 

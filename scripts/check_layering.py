@@ -33,7 +33,8 @@ RESTRICTED = {
     "CL/": ["tracer-node/opencl/", "bench/"],
     "OpenImageIO/": ["common/film/image_io.cpp"],
     "asio": ["common/net/", "coordinator/session/", "tracer-node/", "client/", "tests/", "bench/"],
-    "SDL": ["client/"],
+    "SDL": ["client/", "tests/"],
+    "turbojpeg.h": ["common/film/jpeg_codec.cpp"],
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')

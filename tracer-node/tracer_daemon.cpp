@@ -125,6 +125,7 @@ private:
                               0,
                               scene_.cameras.empty() ? Camera{} : scene_.cameras[0]};
         job.integrator.max_depth = int(a.max_depth());
+        job.integrator.rr_scale = a.rr_scale() > 0.0f ? std::min(1.0f, a.rr_scale()) : 1.0f;
         const int tile_rows = kRowsPerWorkUnit * kUnitsPerTile;
         for (int y = int(a.y0()); y < int(a.y1()); y += tile_rows) {
             if (inbox_.newest_commit() > a.commit())

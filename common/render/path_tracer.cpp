@@ -158,7 +158,7 @@ Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) 
                                                  : Rgb(0.0f);
 
         if (depth + 1 >= settings_.rr_start_depth) {
-            const float survive = std::min(1.0f, max_component(beta));
+            const float survive = std::min(1.0f, max_component(beta) * settings_.rr_scale);
             if (u_lobe.y >= survive) break;
             beta /= survive;
         }

@@ -21,6 +21,9 @@ struct IntegratorSettings {
     int max_depth = 8;  // maximum number of scattering events; 0 renders emitters only
     LightStrategy strategy = LightStrategy::mis;
     int rr_start_depth = 3;  // Russian roulette from this bounce on
+    // Scales the survival probability (<= 1: shorter paths, more noise, still unbiased): the
+    // coordinator's workload scaling lowers it when spp is already at its floor.
+    float rr_scale = 1.0f;
 };
 
 struct SampleCounters {
