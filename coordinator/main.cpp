@@ -137,6 +137,30 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--min-tracers", f.min_tracers, "Tracers to wait for before the first frame")
         ->capture_default_str();
+    // The real-time loop (docs/realtime.md).
+    app.add_option("--target-fps", f.target_fps,
+                   "Frame rate to hold by pacing and workload scaling (0: --fps)")
+        ->capture_default_str();
+    app.add_flag("--fixed-spp", f.fixed_spp,
+                 "No pacing and no workload scaling: every frame at --spp and full size, as fast "
+                 "as the farm goes");
+    bool no_converge = false;
+    app.add_flag("--no-converge", no_converge,
+                 "Send each frame's own samples (no blending with reprojected history)");
+    app.add_option("--min-rr-scale", f.min_rr_scale,
+                   "Workload scaling's floor on the Russian-roulette survival scale")
+        ->capture_default_str();
+    app.add_option("--min-resolution", f.min_resolution,
+                   "Workload scaling's floor on the render size over --width/--height")
+        ->capture_default_str();
+    app.add_option("--game", f.game,
+                   "Game logic: auto (builtin:default's game there, else free-camera), "
+                   "free-camera, default")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "free-camera", "default"}));
+    app.add_option("--jpeg-quality", f.jpeg_quality, "Quality of JPEG frames to clients")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
     // Offline loop and pose export.
     app.add_flag("--offline", offline_mode,
                  "Run the frame loop without a network, with an in-process replica");
@@ -171,6 +195,7 @@ int main(int argc, char** argv) {
         f.frames = std::max(frames, 0);
         f.fps = fps;
         f.stats_csv = stats_csv;
+        f.converge = !no_converge;
         return farm(std::move(*scene), clip_name, secret_file, f);
     }
     o.frames = frames < 0 ? 60 : frames;

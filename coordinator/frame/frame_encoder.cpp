@@ -3,13 +3,16 @@
 
 #include "common/film/float_codec.h"
 #include "common/film/image_io.h"
+#include "common/film/jpeg_codec.h"
 #include "common/film/tonemap.h"
 
 namespace pathfarm::coord {
 
-Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec) {
+Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec, int jpeg_quality) {
     if (codec == FrameCodec::float_zstd)
         return compress_floats(image.rgb.data(), image.rgb.size(), 3);
+    if (codec == FrameCodec::jpeg)
+        return encode_jpeg(image.width, image.height, tonemap_to_srgb8(image), jpeg_quality);
     auto png = encode_png(image.width, image.height, tonemap_to_srgb8(image));
     if (!png) return png.error();
     return std::string(png->begin(), png->end());
@@ -17,8 +20,10 @@ Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec) {
 
 FrameCodec choose_codec(const std::vector<int>& accepted) {
     for (int c : accepted)
-        if (c == int(FrameCodec::png) || c == int(FrameCodec::float_zstd)) return FrameCodec(c);
-    return FrameCodec::png;
+        if (c == int(FrameCodec::png) || c == int(FrameCodec::float_zstd) ||
+            c == int(FrameCodec::jpeg))
+            return FrameCodec(c);
+    return FrameCodec::jpeg;
 }
 
 }  // namespace pathfarm::coord

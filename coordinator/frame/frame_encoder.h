@@ -1,4 +1,5 @@
-// Encoding assembled frames for clients: tonemapped PNG, or lossless zstd float32.
+// Encoding assembled frames for clients: tonemapped and sRGB-encoded here on the coordinator,
+// then JPEG (the default: small and fast) or PNG, or lossless zstd float32.
 #pragma once
 
 #include <string>
@@ -8,10 +9,10 @@
 
 namespace pathfarm::coord {
 
-enum class FrameCodec : int { png = 1, float_zstd = 2 };  // wire FrameCodec values
+enum class FrameCodec : int { png = 1, float_zstd = 2, jpeg = 3 };  // wire FrameCodec values
 
-Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec);
-// Picks the first codec of a client's list that this coordinator can encode (default PNG).
+Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec, int jpeg_quality = 90);
+// Picks the first codec of a client's list that this coordinator can encode (default JPEG).
 FrameCodec choose_codec(const std::vector<int>& accepted);
 
 }  // namespace pathfarm::coord

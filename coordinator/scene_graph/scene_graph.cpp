@@ -203,6 +203,26 @@ Status SceneGraph::set_material(uint32_t id, Material material) {
     return {};
 }
 
+std::vector<uint32_t> SceneGraph::find_nodes(const std::string& name) const {
+    std::vector<uint32_t> out;
+    for (uint32_t n = 0; n < nodes_.size(); ++n)
+        if (nodes_[n].alive && source_.nodes[n].name == name) out.push_back(n);
+    return out;
+}
+
+std::optional<uint32_t> SceneGraph::node_of_instance(uint32_t instance) const {
+    for (uint32_t n = 0; n < nodes_.size(); ++n)
+        for (uint32_t id : nodes_[n].instance_ids)
+            if (id == instance && nodes_[n].alive) return n;
+    return std::nullopt;
+}
+
+std::optional<uint32_t> SceneGraph::find_material(const std::string& name) const {
+    for (const auto& [id, m] : state_.materials)
+        if (m.name == name) return id;
+    return std::nullopt;
+}
+
 Status SceneGraph::set_light(uint32_t material, const Rgb& colour, float strength, bool on) {
     const auto it = state_.materials.find(material);
     if (it == state_.materials.end())
@@ -314,6 +334,10 @@ Status SceneGraph::remove_mesh(uint32_t mesh) {
 
 uint32_t SceneGraph::set_camera(std::optional<uint32_t> id, const Camera& camera, bool active) {
     const uint32_t cam = id ? *id : new_id();
+    // The application's pose wins over the node the camera hangs from (as set_node_transform
+    // wins over animation): the node no longer moves this camera.
+    for (GraphNode& g : nodes_)
+        if (g.camera_id == cam) g.camera_id.reset();
     state_.cameras[cam] = camera;
     changes_.cameras_set.insert(cam);
     if (active && state_.active_camera != cam) {

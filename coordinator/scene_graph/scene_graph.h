@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "common/base/result.h"
@@ -44,9 +45,15 @@ public:
     Status set_node_transform(uint32_t node, const Mat4& local);
     Status remove_node(uint32_t node);  // and its subtree's instances
     Status remove_mesh(uint32_t mesh);  // instances of it are removed too
+    // A camera that hung from a node is detached from it: the application now poses it.
     uint32_t set_camera(std::optional<uint32_t> id, const Camera& camera, bool active);
     void set_environment(const Environment& environment);
     void set_settings(const RenderSettings& settings);
+
+    // Lookups for game logic: alive nodes with this name, and the node showing an instance.
+    std::vector<uint32_t> find_nodes(const std::string& name) const;
+    std::optional<uint32_t> node_of_instance(uint32_t instance) const;
+    std::optional<uint32_t> find_material(const std::string& name) const;
 
     std::size_t node_count() const { return nodes_.size(); }
     bool node_alive(uint32_t node) const { return node < nodes_.size() && nodes_[node].alive; }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <thread>
 
 #include <spdlog/spdlog.h>
 
@@ -14,6 +15,7 @@
 #include "common/commit/commit_codec.h"
 #include "common/film/float_codec.h"
 #include "common/film/image_io.h"
+#include "common/film/resample.h"
 #include "common/net/framing.h"
 #include "common/net/session.h"
 #include "coordinator/accel/accel_updater.h"
@@ -21,8 +23,12 @@
 #include "coordinator/balance/row_range.h"
 #include "coordinator/commit/bvh_ops.h"
 #include "coordinator/commit/commit_builder.h"
+#include "coordinator/converge/temporal_accumulator.h"
 #include "coordinator/frame/frame_assembler.h"
 #include "coordinator/frame/frame_encoder.h"
+#include "coordinator/game/game.h"
+#include "coordinator/pacing/workload_scaler.h"
+#include "coordinator/query/ray_query.h"
 #include "coordinator/scene_graph/scene_graph.h"
 #include "pathfarm/wire/v1/envelope.pb.h"
 
@@ -72,16 +78,27 @@ struct ClientState {
     FrameCodec codec = FrameCodec::png;
 };
 
-// Frame N's commit in both forms (with BVH ops for tracers that asked).
+// Frame N's commit in both forms (with BVH ops for tracers that asked), and what converging
+// needs to know about the frame.
 struct PreparedFrame {
     uint64_t frame = 0;
     std::vector<std::string> plain, with_bvh;
     std::size_t plain_bytes = 0;
+    std::shared_ptr<const AccelSnapshot> accel;
+    FrameView view;                    // camera, instances, deformed, cut (G-buffer added later)
+    uint64_t last_input_sequence = 0;  // the newest input applied in this frame
+};
+
+// Frame size and quality of the frame being rendered (workload scaling changes them).
+struct FrameQuality {
+    int width = 0, height = 0, spp = 1;
+    float rr_scale = 1.0f;
 };
 
 class Farm {
 public:
-    Farm(SceneModel scene, const FarmOptions& o) : o_(o), graph_(std::move(scene)) {
+    Farm(SceneModel scene, const FarmOptions& o)
+        : o_(o), scene_name_(scene.name), graph_(std::move(scene)) {
         if (o.clip) graph_.set_playing_clip(*o.clip);
         RenderSettings s = graph_.state().settings;
         s.width = o.width;
@@ -93,6 +110,14 @@ public:
     }
 
     Status run(const std::atomic<bool>& stop);
+    double target_fps() const { return o_.target_fps > 0.0 ? o_.target_fps : o_.fps; }
+    Status start_game() {
+        auto g = make_game(o_.game, scene_name_, graph_);
+        if (!g) return g.error();
+        game_ = std::move(*g);
+        spdlog::info("game: {}", game_->name());
+        return {};
+    }
     void set_balancer(std::unique_ptr<Balancer> b) {
         steal_ = b->name() == "cost-predictive";
         balancer_ = std::move(b);
@@ -114,10 +139,17 @@ private:
     void reissue(const std::vector<RowRange>& ranges, bool idle_only);  // holds mutex_
     bool wait_for_frame(const std::atomic<bool>& stop);                 // false: abandoned
     void assign(uint64_t id, TracerState& t, const RowRange& r);        // holds mutex_
-    void finish_frame(const PreparedFrame& p, double frame_ms);
+    void finish_frame(PreparedFrame& p, double frame_ms);
+    FrameQuality next_quality() const;
 
     FarmOptions o_;
+    std::string scene_name_;
     SceneGraph graph_;
+    std::unique_ptr<Game> game_;
+    RayQueryService queries_;
+    TemporalAccumulator accumulator_;
+    FrameQuality q_;                        // of frame_
+    std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     AccelUpdater accel_;
     std::shared_ptr<const AccelSnapshot> accel_snapshot_;
     std::mutex mutex_;
@@ -131,8 +163,8 @@ private:
     bool steal_ = false;  // idle tracers take rows of the busiest (the cost-predictive scheme)
     std::vector<double> unit_rays_, unit_us_, last_unit_cost_;  // per work unit, this / last frame
     std::vector<uint64_t> unit_owner_;  // who delivered each unit (session ids; 0: nobody yet)
-    std::optional<Mat4> pending_camera_;
-    uint64_t last_input_ = 0;
+    std::vector<PlayerInput> pending_inputs_;  // received, applied at the next frame boundary
+    uint64_t last_applied_input_ = 0;
     std::ofstream stats_, tracer_stats_, stages_, costs_;
 };
 
@@ -158,13 +190,19 @@ void Farm::on_client(std::shared_ptr<net::Session> s) {
                 session->reject(net::ProtocolError::out_of_order, "clients send InputEvent only");
             return;
         }
-        std::lock_guard lock(mutex_);
-        last_input_ = std::max(last_input_, e.input().sequence());
-        if (e.input().camera_to_world().size() == sizeof(Mat4)) {
+        const pb::InputEvent& in = e.input();
+        PlayerInput input;
+        input.sequence = in.sequence();
+        input.action = in.action();
+        if (in.camera_to_world().size() == sizeof(Mat4)) {
             Mat4 m4;
-            std::memcpy(&m4[0][0], e.input().camera_to_world().data(), sizeof(Mat4));
-            pending_camera_ = m4;
+            std::memcpy(&m4[0][0], in.camera_to_world().data(), sizeof(Mat4));
+            input.camera_to_world = m4;
         }
+        for (int k = 0; k < std::min(in.move_size(), 5); ++k)
+            input.move[std::size_t(k)] = std::isfinite(in.move(k)) ? in.move(k) : 0.0f;
+        std::lock_guard lock(mutex_);
+        pending_inputs_.push_back(input);
     };
     s->on_closed = [this, id](const std::string& reason) {
         spdlog::info("client {} left: {}", id, reason);
@@ -187,9 +225,9 @@ void Farm::on_tile(uint64_t id, const std::string& bytes) {
     const pb::Tile& t = e.tile();
     if (!assembler_ || t.frame() != frame_) return;  // a tile of a frame already closed
     const RowRange range{int(t.y0()), int(t.y1())};
-    const std::size_t floats = std::size_t(std::max(0, range.rows())) * std::size_t(o_.width) * 3;
+    const std::size_t floats = std::size_t(std::max(0, range.rows())) * std::size_t(q_.width) * 3;
     auto rgb = decompress_floats(t.rgb_zstd(), floats);
-    if (range.empty() || range.y1 > o_.height || !rgb) {
+    if (range.empty() || range.y1 > q_.height || !rgb) {
         it->second.session->reject(net::ProtocolError::malformed,
                                    "tile rows or pixels do not fit the frame");
         return;
@@ -229,7 +267,7 @@ int Farm::delivered_rows(uint64_t id) const {
     int rows = 0;
     for (std::size_t u = 0; u < unit_owner_.size(); ++u)
         if (unit_owner_[u] == id)
-            rows += std::min(o_.height, int(u + 1) * kRowsPerWorkUnit) - int(u) * kRowsPerWorkUnit;
+            rows += std::min(q_.height, int(u + 1) * kRowsPerWorkUnit) - int(u) * kRowsPerWorkUnit;
     return rows;
 }
 
@@ -298,28 +336,38 @@ void Farm::on_tracer_closed(uint64_t id) {
 }
 
 PreparedFrame Farm::prepare(uint64_t frame) {
+    std::vector<PlayerInput> inputs;
     {
         std::lock_guard lock(mutex_);  // input takes effect at frame boundaries
-        if (pending_camera_) {
-            Camera cam = graph_.state().cameras.count(graph_.state().active_camera)
-                             ? graph_.state().cameras.at(graph_.state().active_camera)
-                             : Camera{};
-            cam.camera_to_world = *pending_camera_;
-            graph_.set_camera(graph_.state().cameras.empty()
-                                  ? std::nullopt
-                                  : std::optional(graph_.state().active_camera),
-                              cam, true);
-            pending_camera_.reset();
-        }
+        inputs.swap(pending_inputs_);
     }
-    graph_.advance(double(frame) / o_.fps);  // the fixed game clock (DESIGN.md, "Time")
+    const double clock = double(frame) / o_.fps;  // the fixed game clock (DESIGN.md, "Time")
+    for (const PlayerInput& in : inputs) {
+        game_->on_input(in, clock, graph_, queries_);
+        last_applied_input_ = std::max(last_applied_input_, in.sequence);
+    }
+    game_->update(clock, graph_);
+    graph_.advance(clock);
     const ChangeSet changes = graph_.take_changes();
     const auto previous = accel_snapshot_;
     accel_snapshot_ = frame == 0 ? accel_.build(graph_.state(), frame)
                                  : accel_.update(graph_.state(), changes, frame);
+    queries_.publish(accel_snapshot_);
     PreparedFrame p;
     p.frame = frame;
-    Commit commit = build_commit(graph_.state(), changes, frame, frame == 0 ? 0 : frame - 1);
+    p.accel = accel_snapshot_;
+    p.last_input_sequence = last_applied_input_;
+    const SceneState& state = graph_.state();
+    if (const auto cam = state.cameras.find(state.active_camera); cam != state.cameras.end())
+        p.view.camera = cam->second;
+    for (const InstanceAccel& inst : accel_snapshot_->instances)
+        p.view.instances[inst.id] = inst.to_world;
+    for (const auto& [id, inst] : state.instances)
+        if (changes.vertices_changed.count(inst.mesh)) p.view.deformed.insert(id);
+    // What lights the scene changed: history of every pixel is wrong.
+    p.view.cut = !changes.materials_set.empty() || !changes.materials_removed.empty() ||
+                 !changes.textures_set.empty() || changes.environment;
+    Commit commit = build_commit(state, changes, frame, frame == 0 ? 0 : frame - 1);
     const EncodedCommit plain = encode_commit(commit);
     p.plain_bytes = plain.total_bytes();
     p.plain = commit_envelopes(plain);
@@ -337,11 +385,12 @@ void Farm::assign(uint64_t id, TracerState& t, const RowRange& r) {
     a->set_commit(frame_);
     a->set_y0(uint32_t(r.y0));
     a->set_y1(uint32_t(r.y1));
-    a->set_width(uint32_t(o_.width));
-    a->set_height(uint32_t(o_.height));
-    a->set_spp(uint32_t(o_.spp));
+    a->set_width(uint32_t(q_.width));
+    a->set_height(uint32_t(q_.height));
+    a->set_spp(uint32_t(q_.spp));
     a->set_seed(o_.seed);
     a->set_max_depth(uint32_t(o_.max_depth));
+    if (q_.rr_scale < 1.0f) a->set_rr_scale(q_.rr_scale);
     t.session->send(e.SerializeAsString());
     t.assigned.push_back(r);
     spdlog::debug("frame {}: rows [{}, {}) to tracer {} \"{}\"", frame_, r.y0, r.y1, id, t.name);
@@ -371,11 +420,14 @@ void Farm::sync_and_assign(const PreparedFrame& p) {
         t.render_ms = 0.0;
         synced.push_back(id);
     }
-    BalanceInput in{o_.height, {}, last_unit_cost_};
+    // A new render size makes last frame's rows and unit costs meaningless: start even.
+    const bool resized = last_unit_cost_.size() != unit_rays_.size();
+    BalanceInput in{q_.height, {}, resized ? std::vector<double>{} : last_unit_cost_};
     for (uint64_t id : synced) {  // tracers that did not render the previous frame are new to it
         const TracerState& t = tracers_.at(id);
-        in.last.push_back(p.frame > 0 && t.measured_frame == p.frame - 1 ? t.measured
-                                                                         : TracerFrame{});
+        in.last.push_back(!resized && p.frame > 0 && t.measured_frame == p.frame - 1
+                              ? t.measured
+                              : TracerFrame{});
     }
     const auto ranges = balancer_->assign(in);
     for (std::size_t i = 0; i < synced.size(); ++i) {
@@ -420,7 +472,7 @@ bool Farm::wait_for_frame(const std::atomic<bool>& stop) {
                            std::min(deadline, Clock::now() + std::chrono::milliseconds(100))) ==
                 std::cv_status::timeout &&
             Clock::now() >= deadline) {
-            const auto missing = assembler_->missing({0, o_.height});
+            const auto missing = assembler_->missing({0, q_.height});
             spdlog::warn("frame {}: {} row ranges missed the {} ms deadline; re-issuing", frame_,
                          missing.size(), o_.deadline_ms);
             reissue(missing, true);
@@ -430,9 +482,9 @@ bool Farm::wait_for_frame(const std::atomic<bool>& stop) {
     return assembler_->complete();
 }
 
-void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
+void Farm::finish_frame(PreparedFrame& p, double frame_ms) {
     std::unique_lock lock(mutex_);
-    const FloatImage image = assembler_->image();
+    FloatImage image = assembler_->image();
     double t_max = 0.0, idle = 0.0;
     int n = 0;
     for (const auto& [id, t] : tracers_)
@@ -457,20 +509,34 @@ void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
     if (costs_.is_open())
         for (std::size_t u = 0; u < unit_us_.size(); ++u)
             costs_ << frame_ << ',' << u << ',' << unit_us_[u] << '\n';
+    const std::size_t tracer_count = tracers_.size();
+    const std::size_t tile_bytes = tile_bytes_;
+    lock.unlock();
+    // Display: upscale what workload scaling rendered smaller, then converge.
+    const Timer display_timer;
+    if (image.width != o_.width || image.height != o_.height)
+        image = resize_bilinear(image, o_.width, o_.height);
+    ConvergeStats converged;
+    if (o_.converge) converged = accumulator_.blend(image, std::move(p.view));
+    const double display_ms = display_timer.milliseconds();
+    const bool at_floor = scaler_ && scaler_->at_floor();
     if (stats_.is_open())
-        stats_ << frame_ << ',' << tracers_.size() << ',' << frame_ms << ',' << idle_pct << ','
-               << p.plain_bytes << ',' << tile_bytes_ << ',' << o_.spp << '\n';
+        stats_ << frame_ << ',' << tracer_count << ',' << frame_ms << ',' << idle_pct << ','
+               << p.plain_bytes << ',' << tile_bytes << ',' << q_.spp << ',' << q_.rr_scale << ','
+               << q_.width << ',' << q_.height << ',' << converged.mean_f << ',' << converged.kept
+               << ',' << int(at_floor) << ',' << display_ms << '\n';
     stats_.flush();  // live monitoring and tests read these while the farm runs
     tracer_stats_.flush();
+    lock.lock();
     std::map<FrameCodec, std::string> encoded;
     std::vector<std::pair<std::shared_ptr<net::Session>, FrameCodec>> targets;
     for (auto& [id, c] : clients_)
         targets.emplace_back(c.session, c.codec);
-    const uint64_t last_input = last_input_;
+    const uint64_t last_input = p.last_input_sequence;
     lock.unlock();
     for (auto& [session, codec] : targets) {
         if (!encoded.count(codec)) {
-            auto bytes = encode_frame(image, codec);
+            auto bytes = encode_frame(image, codec, o_.jpeg_quality);
             if (!bytes) {
                 spdlog::error("frame {}: {}", frame_, bytes.error().message);
                 continue;
@@ -494,6 +560,13 @@ void Farm::finish_frame(const PreparedFrame& p, double frame_ms) {
     }
 }
 
+FrameQuality Farm::next_quality() const {
+    if (!scaler_) return {o_.width, o_.height, o_.spp, 1.0f};
+    const QualityLevel& l = scaler_->level();
+    return {std::max(8, int(std::lround(o_.width * l.resolution))),
+            std::max(8, int(std::lround(o_.height * l.resolution))), l.spp, l.rr_scale};
+}
+
 Status Farm::run(const std::atomic<bool>& stop) {
     net::NetService net;
     net::ServerConfig tracer_config{o_.tracer_port,           o_.bind_address,
@@ -511,7 +584,8 @@ Status Farm::run(const std::atomic<bool>& stop) {
     std::fflush(stdout);
     if (!o_.stats_csv.empty()) {
         stats_.open(o_.stats_csv);
-        stats_ << "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp\n";
+        stats_ << "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp,rr_scale,"
+                  "render_width,render_height,f,kept,at_floor,display_ms\n";
     }
     if (!o_.record_costs.empty()) {
         costs_.open(o_.record_costs);
@@ -526,11 +600,21 @@ Status Farm::run(const std::atomic<bool>& stop) {
         tracer_stats_ << "frame,tracer,first_row,rows,render_ms,rows_delivered\n";
     }
     if (!o_.dump_frames.empty()) std::filesystem::create_directories(o_.dump_frames);
+    if (!o_.fixed_spp)
+        scaler_.emplace(ScalerOptions{target_fps(), o_.spp, o_.min_rr_scale, o_.min_resolution});
     PreparedFrame next = prepare(0);
     const Timer clock;
+    // Pacing: with a target frame rate, frame f starts no earlier than one interval after f-1.
+    const auto interval = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(1.0 / target_fps()));
+    Clock::time_point next_start = Clock::now();
     int completed = 0, completed_at_last_line = 0;
     double last_line = 0.0;
     for (uint64_t f = 0; (o_.frames == 0 || f < uint64_t(o_.frames)) && !stop; ++f) {
+        if (scaler_) {
+            std::this_thread::sleep_until(next_start);
+            next_start = std::max(Clock::now(), next_start + interval);
+        }
         Timer stage;
         {
             std::unique_lock lock(mutex_);
@@ -539,9 +623,10 @@ Status Farm::run(const std::atomic<bool>& stop) {
             cv_.wait(lock, [&] { return tracers_.size() >= needed || stop; });
             if (stop) break;
             frame_ = f;
-            assembler_.emplace(o_.width, o_.height);
+            q_ = next_quality();
+            assembler_.emplace(q_.width, q_.height);
             tile_bytes_ = 0;
-            unit_rays_.assign(std::size_t(work_units(o_.height)), 0.0);
+            unit_rays_.assign(std::size_t(work_units(q_.height)), 0.0);
             unit_us_.assign(unit_rays_.size(), 0.0);
             unit_owner_.assign(unit_rays_.size(), 0);
             stage.reset();
@@ -549,14 +634,18 @@ Status Farm::run(const std::atomic<bool>& stop) {
         }
         const double send_ms = stage.milliseconds();
         const Timer frame_timer;
-        const PreparedFrame current = std::move(next);
+        PreparedFrame current = std::move(next);
         stage.reset();
         next = prepare(f + 1);  // pipelined: frame N+1's commit while frame N renders
+        if (o_.converge)        // and the G-buffer for reprojection, while the tracers render
+            current.view.gbuffer =
+                trace_gbuffer(*current.accel, current.view.camera, o_.width, o_.height);
         const double prepare_ms = stage.milliseconds();
         stage.reset();
         if (!wait_for_frame(stop)) continue;
         const double wait_ms = stage.milliseconds();
         const double frame_ms = frame_timer.milliseconds();
+        if (scaler_) scaler_->observe(frame_ms);
         stage.reset();
         finish_frame(current, frame_ms);
         if (stages_.is_open())
@@ -601,8 +690,18 @@ Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<
     if (!balancer)
         return make_error(ErrorCode::invalid_argument, "--balancer {}: unknown scheme",
                           options.balancer);
+    if (options.jpeg_quality < 1 || options.jpeg_quality > 100)
+        return make_error(ErrorCode::invalid_argument, "--jpeg-quality {}: must be in [1, 100]",
+                          options.jpeg_quality);
+    if (!(options.min_rr_scale > 0.0f && options.min_rr_scale <= 1.0f) ||
+        !(options.min_resolution > 0.0f && options.min_resolution <= 1.0f) ||
+        !(options.target_fps >= 0.0))
+        return make_error(
+            ErrorCode::invalid_argument,
+            "--min-rr-scale and --min-resolution must be in (0, 1], --target-fps >= 0");
     Farm farm(std::move(scene), options);
     farm.set_balancer(std::move(balancer));
+    if (Status s = farm.start_game(); !s) return s;
     return farm.run(stop);
 }
 

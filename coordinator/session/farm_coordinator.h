@@ -31,6 +31,14 @@ struct FarmOptions {
     std::string balancer = "cost-predictive";  // coordinator/balance/balancer.h
     std::string record_costs;  // frame,unit,cost_us per work unit (record with one tracer)
     std::string stages_csv;    // frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms
+    // The real-time loop (docs/realtime.md). fixed_spp: no pacing and no workload scaling, every
+    // frame at `spp` and full resolution as fast as the farm goes (the determinism tests).
+    bool converge = true;
+    bool fixed_spp = false;
+    double target_fps = 0.0;                           // frame rate to hold; 0: `fps`
+    float min_rr_scale = 0.5f, min_resolution = 0.5f;  // workload scaling's quality floor
+    std::string game = "auto";                         // coordinator/game/game.h
+    int jpeg_quality = 90;
 };
 
 Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop);

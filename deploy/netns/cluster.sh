@@ -54,7 +54,7 @@ fi
 mkdir -p "$out"
 export PATHFARM_SECRET="${PATHFARM_SECRET:-netns-cluster-secret}"
 ip netns exec "${hosts[0]}" "$build/coordinator/pathfarm-coordinator" --scene builtin:default --bind 10.77.0.1 \
-  --tracer-port 7400 --client-port 7401 --width 160 --height 90 --spp 2 --frames "$frames" --min-tracers "$tracers" \
+  --tracer-port 7400 --client-port 7401 --width 160 --height 90 --spp 2 --frames "$frames" --min-tracers "$tracers" --fixed-spp \
   --stats-csv "$out/stats.csv" --dump-frames "$out/dump" > "$out/coordinator.log" 2>&1 &
 coordinator=$!
 for i in $(seq 1 "$tracers"); do

@@ -39,25 +39,13 @@ struct Farm {
     Farm() { setenv("PATHFARM_SECRET", "farm-test-secret", 1); }
 
     void start(std::vector<std::string> extra, int port = 0) {
-        std::vector<std::string> args{kCoordinator,
-                                      "--scene",
-                                      "builtin:default",
-                                      "--tracer-port",
-                                      std::to_string(port),
-                                      "--client-port",
-                                      "0",
-                                      "--width",
-                                      "64",
-                                      "--height",
-                                      "50",
-                                      "--spp",
-                                      "2",
-                                      "--dump-frames",
-                                      dir + "/dump",
-                                      "--stats-csv",
-                                      dir + "/stats.csv",
-                                      "--tracer-stats-csv",
-                                      dir + "/tracers.csv"};
+        std::vector<std::string> args{kCoordinator, "--scene", "builtin:default", "--tracer-port",
+                                      std::to_string(port), "--client-port", "0", "--width", "64",
+                                      "--height", "50", "--spp", "2", "--dump-frames",
+                                      dir + "/dump", "--stats-csv", dir + "/stats.csv",
+                                      "--tracer-stats-csv", dir + "/tracers.csv",
+                                      // Bit-exact frames: no pacing, scaling, blending or game.
+                                      "--fixed-spp", "--no-converge", "--game", "free-camera"};
         args.insert(args.end(), extra.begin(), extra.end());
         coordinator = std::make_unique<Process>(args, dir + "/coordinator.log");
         const auto line = test::wait_for_text(dir + "/coordinator.log", "tracer_port=", 10s);

@@ -14,6 +14,8 @@ SceneModel make_cornell_box();
 // The demo room: instanced objects, procedural floor, mirror, absorbing glass, several lights
 // of different sizes and a sunlit window.
 SceneModel make_default_scene();
+// The default scene's door node transform, swung open by `open_radians` about its hinge.
+Mat4 default_scene_door_transform(float open_radians);
 
 std::vector<std::string> builtin_scene_names();
 Result<SceneModel> make_builtin_scene(const std::string& name);

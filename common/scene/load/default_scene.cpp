@@ -73,6 +73,13 @@ void add_room(SceneBuilder& b, int wall, int floor) {
 
 }  // namespace
 
+Mat4 default_scene_door_transform(float open_radians) {
+    const Mat4 hinge = glm::translate(Mat4(1.0f), Vec3(0.9f, 0.0f, -7.94f));
+    const Mat4 swing = glm::rotate(Mat4(1.0f), open_radians, Vec3(0, 1, 0));
+    const Mat4 panel = glm::translate(Mat4(1.0f), Vec3(0.45f, 1.0f, 0.03f));
+    return hinge * swing * panel * glm::scale(Mat4(1.0f), Vec3(0.9f, 2.0f, 0.06f));
+}
+
 SceneModel make_default_scene() {
     SceneBuilder b("builtin:default");
     const int floor_image = b.add_image(make_floor_image(256));
@@ -92,6 +99,8 @@ SceneModel make_default_scene() {
     glass.attenuation_color = Rgb(0.3f, 0.8f, 0.5f);
     glass.attenuation_distance = 0.5f;
     const int glass_mat = b.add_material(glass);
+    const int wood =
+        b.add_material(make_material("door-wood", Rgb(0.32f, 0.2f, 0.11f), 0.0f, 0.55f));
     const int big_light = b.add_material(make_emitter("ceiling-panel", Rgb(2.5f)));
     const int small_light = b.add_material(make_emitter("spot-panel", Rgb(18.0f, 16.0f, 13.0f)));
     const int lamp = b.add_material(make_emitter("lamp-bulb", Rgb(400.0f, 300.0f, 180.0f)));
@@ -120,6 +129,10 @@ SceneModel make_default_scene() {
     const int ball = b.add_mesh(make_sphere(0.35f, 32, 64, gold));
     b.add_instance(ball, at({0.6f, 0.35f, -4.2f}), -1, "gold-ball");
     b.add_instance(ball, at({2.6f, 0.35f, -4.6f}), -1, "gold-ball");
+    // A door in front of the back wall, hinged at x = 0.9: the game (coordinator/game) swings
+    // it open when the player aims at it and presses the action key.
+    b.add_instance(b.add_mesh(make_unit_cube(wood)), default_scene_door_transform(0.0f), -1,
+                   "door");
     b.add_instance(b.add_mesh(make_sphere(0.45f, 32, 64, glass_mat)), at({-0.4f, 0.45f, -2.8f}), -1,
                    "glass-ball");
 

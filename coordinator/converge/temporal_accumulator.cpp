@@ -1,0 +1,141 @@
+// Reprojection, validation, clamp and blend, one pixel at a time (TBB over rows).
+#include "coordinator/converge/temporal_accumulator.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "common/math/transform.h"
+
+namespace pathfarm::coord {
+namespace {
+
+struct Totals {
+    double f = 0.0, kept = 0.0, frames = 0.0;
+    Totals operator+(const Totals& o) const { return {f + o.f, kept + o.kept, frames + o.frames}; }
+};
+
+// Mean and standard deviation of the 3x3 neighbourhood of (x, y) in `image`.
+void neighbourhood(const FloatImage& image, int x, int y, Rgb& mean, Rgb& sigma) {
+    Rgb sum(0.0f), sum2(0.0f);
+    int n = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int sx = x + dx, sy = y + dy;
+            if (sx < 0 || sy < 0 || sx >= image.width || sy >= image.height) continue;
+            const Rgb c = image.pixel(sx, sy);
+            sum += c;
+            sum2 += c * c;
+            ++n;
+        }
+    mean = sum / float(n);
+    sigma = glm::sqrt(glm::max(sum2 / float(n) - mean * mean, Rgb(0.0f)));
+}
+
+}  // namespace
+
+void TemporalAccumulator::reset() {
+    previous_.reset();
+    history_ = FloatImage();
+    frames_.clear();
+}
+
+ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
+    const int w = image.width, h = image.height;
+    const std::size_t n = std::size_t(w) * h;
+    if (view.cut || !previous_ || history_.width != w || history_.height != h ||
+        view.gbuffer.width != w || view.gbuffer.height != h) {
+        history_ = image;
+        frames_.assign(n, 1.0f);
+        previous_ = std::move(view);
+        return {1.0, 0.0, 1.0};
+    }
+    const FrameView& prev = *previous_;
+    const GBuffer& g = view.gbuffer;
+    const bool camera_moved = prev.camera.camera_to_world != view.camera.camera_to_world ||
+                              prev.camera.yfov_radians != view.camera.yfov_radians;
+    const CameraProjector project_prev(prev.camera, w, h);
+    // Per instance: this frame's world to last frame's world, for instances that moved.
+    std::map<uint32_t, Mat4> to_previous;
+    std::set<uint32_t> moving = view.deformed;
+    for (const auto& [id, m] : view.instances) {
+        const auto it = prev.instances.find(id);
+        if (it == prev.instances.end()) {
+            moving.insert(id);  // new this frame: nothing of it is in the history
+        } else if (it->second != m) {
+            to_previous[id] = it->second * glm::inverse(m);
+            moving.insert(id);
+        }
+    }
+    FloatImage out(w, h);
+    std::vector<float> frames(n, 1.0f);
+    const Totals totals = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, h), Totals{},
+        [&](const tbb::blocked_range<int>& rows, Totals t) {
+            for (int y = rows.begin(); y < rows.end(); ++y)
+                for (int x = 0; x < w; ++x) {
+                    const std::size_t i = std::size_t(y) * w + x;
+                    const Rgb c = image.pixel(x, y);
+                    const uint32_t inst = g.instance[i];
+                    const bool object_moves = inst != GBuffer::kNoInstance && moving.count(inst);
+                    // Where this pixel's surface was last frame, and which history pixel saw it.
+                    float px = x + 0.5f, py = y + 0.5f;
+                    bool on_screen = true;
+                    float expected = g.distance[i];
+                    if (camera_moved || object_moves) {
+                        if (inst == GBuffer::kNoInstance) {  // the sky: by direction
+                            const Ray r =
+                                generate_camera_ray(view.camera, w, h, x + 0.5f, y + 0.5f);
+                            on_screen = project_prev.direction(r.d, px, py);
+                        } else {
+                            Vec3 p = g.position[i];
+                            if (const auto it = to_previous.find(inst); it != to_previous.end())
+                                p = transform_point(it->second, p);
+                            on_screen = !view.deformed.count(inst) && prev.instances.count(inst) &&
+                                        project_prev.point(p, px, py);
+                            expected = glm::length(p - project_prev.eye());
+                        }
+                    }
+                    const int hx = int(std::floor(px)), hy = int(std::floor(py));
+                    bool valid = on_screen && hx >= 0 && hy >= 0 && hx < w && hy < h;
+                    std::size_t j = 0;
+                    if (valid) {
+                        j = std::size_t(hy) * w + hx;
+                        valid = prev.gbuffer.instance[j] == inst &&
+                                (inst == GBuffer::kNoInstance ||
+                                 std::abs(prev.gbuffer.distance[j] - expected) <=
+                                     o_.depth_tolerance * expected);
+                    }
+                    if (!valid) {
+                        out.set_pixel(x, y, c);
+                        t.f += 1.0;
+                        t.frames += 1.0;
+                        continue;
+                    }
+                    Rgb history = history_.pixel(hx, hy);
+                    float k = frames_[j] + 1.0f;
+                    if (camera_moved || object_moves) {
+                        Rgb mean, sigma;
+                        neighbourhood(image, x, y, mean, sigma);
+                        history = glm::clamp(history, mean - o_.clamp_sigmas * sigma,
+                                             mean + o_.clamp_sigmas * sigma);
+                        const float floor = object_moves ? o_.object_floor : o_.camera_floor;
+                        k = std::min(k, 1.0f / floor);
+                    }
+                    const float f = 1.0f / k;
+                    out.set_pixel(x, y, history + f * (c - history));
+                    frames[i] = k;
+                    t.f += f;
+                    t.kept += 1.0;
+                    t.frames += k;
+                }
+            return t;
+        },
+        [](const Totals& a, const Totals& b) { return a + b; });
+    image = out;
+    history_ = std::move(out);
+    frames_ = std::move(frames);
+    previous_ = std::move(view);
+    return {totals.f / double(n), totals.kept / double(n), totals.frames / double(n)};
+}
+
+}  // namespace pathfarm::coord

@@ -1,0 +1,58 @@
+// Converging (Brigade §4.5) with reprojection: C = (1 - f) H + f C_new per pixel, where H is
+// the previous output carried to this frame by the camera's (and each instance's) motion.
+// A pixel whose surface stayed still keeps a true running mean (f = 1/k for its k-th frame,
+// error falls as 1/sqrt(k)); history of a moving pixel is clamped to the new frame's
+// neighbourhood and f is floored so moving objects do not smear; history whose surface is not
+// the one seen now (disocclusion, off-screen, another instance, a depth jump) is dropped.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <set>
+
+#include "common/film/film.h"
+#include "coordinator/converge/gbuffer.h"
+
+namespace pathfarm::coord {
+
+// What the accumulator must know about a frame besides its pixels.
+struct FrameView {
+    Camera camera;
+    GBuffer gbuffer;                     // at the display resolution
+    std::map<uint32_t, Mat4> instances;  // instance id -> object-to-world this frame
+    std::set<uint32_t> deformed;         // instances whose vertices changed this frame
+    // Lighting, materials or the environment changed: no history is valid (a cut).
+    bool cut = false;
+};
+
+struct ConvergeOptions {
+    float object_floor = 0.2f;      // least f on pixels of moving or deforming instances
+    float camera_floor = 0.1f;      // least f on still surfaces seen by a moving camera
+    float clamp_sigmas = 1.5f;      // history clamp: neighbourhood mean +- this many deviations
+    float depth_tolerance = 0.03f;  // relative distance mismatch that rejects history
+};
+
+struct ConvergeStats {
+    double mean_f = 1.0;       // mean blend factor over the frame's pixels
+    double kept = 0.0;         // fraction of pixels that kept history
+    double mean_frames = 1.0;  // mean history length (frames) after this one
+};
+
+class TemporalAccumulator {
+public:
+    explicit TemporalAccumulator(ConvergeOptions options = {}) : o_(options) {}
+
+    // Blends `image` (this frame's new samples, display resolution) with the history in place.
+    ConvergeStats blend(FloatImage& image, FrameView view);
+    void reset();  // a cut: the next frame starts from its own samples only
+    // Frames of history per pixel (1: this frame's samples alone).
+    const std::vector<float>& history_frames() const { return frames_; }
+
+private:
+    ConvergeOptions o_;
+    FloatImage history_;
+    std::vector<float> frames_;
+    std::optional<FrameView> previous_;
+};
+
+}  // namespace pathfarm::coord

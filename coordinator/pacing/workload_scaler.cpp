@@ -1,0 +1,45 @@
+// The quality ladder and its controller.
+#include "coordinator/pacing/workload_scaler.h"
+
+#include <algorithm>
+
+namespace pathfarm::coord {
+
+WorkloadScaler::WorkloadScaler(const ScalerOptions& options) : o_(options) {
+    for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 2 ? (spp * 2) / 3 : spp - 1)
+        ladder_.push_back({spp, 1.0f, 1.0f});
+    for (float rr : {0.75f, 0.5f, 0.35f})
+        if (rr >= o_.min_rr_scale) ladder_.push_back({1, rr, 1.0f});
+    const float rr = ladder_.back().rr_scale;
+    for (float res : {0.85f, 0.7f, 0.6f, 0.5f, 0.4f, 0.3f})
+        if (res >= o_.min_resolution) ladder_.push_back({1, rr, res});
+}
+
+double WorkloadScaler::work(const QualityLevel& l) {
+    // Path length under scaled roulette, measured on builtin:default (bench/realtime): halving
+    // the survival scale cuts the rays per sample to about 0.7.
+    const double path = 0.4 + 0.6 * double(l.rr_scale);
+    return double(l.spp) * double(l.resolution) * double(l.resolution) * path;
+}
+
+void WorkloadScaler::observe(double frame_ms) {
+    if (!(frame_ms > 0.0)) return;
+    const double k = frame_ms / work(level());
+    // Learn k: adopt a sudden slowdown at once, smooth everything else.
+    ms_per_work_ = ms_per_work_ == 0.0 || k > 1.3 * ms_per_work_ ? k : 0.7 * ms_per_work_ + 0.3 * k;
+    const double budget = o_.headroom * 1000.0 / o_.target_fps;
+    std::size_t best = ladder_.size() - 1;  // the best level predicted to fit
+    for (std::size_t i = 0; i < ladder_.size(); ++i)
+        if (ms_per_work_ * work(ladder_[i]) <= budget) {
+            best = i;
+            break;
+        }
+    if (best > index_) {
+        index_ = best;  // too slow: drop as far as needed at once
+    } else if (best < index_ && ms_per_work_ * work(ladder_[index_ - 1]) <= 0.85 * budget) {
+        --index_;  // room to spare: one level up, with a margin
+    }
+    at_floor_ = index_ == ladder_.size() - 1 && ms_per_work_ * work(level()) > budget / o_.headroom;
+}
+
+}  // namespace pathfarm::coord

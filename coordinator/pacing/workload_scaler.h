@@ -1,0 +1,52 @@
+// Dynamic workload scaling (Brigade §4.7): holds a target frame rate by moving down (or back
+// up) a ladder of quality levels, cheapest knob first: samples per pixel, then the Russian-
+// roulette survival probability, then the render resolution (upscaled for display). It never
+// goes below the configured floor; when even the floor is too slow it says so (at_floor()).
+//
+// The controller predicts a level's frame time as k * work(level), where work is the relative
+// cost (spp x pixels x a path-length factor) and k is learned from the frames it sees: a
+// capacity drop (a tracer leaves) shows as a jump in k and is acted on at once; rises in
+// quality need the prediction to fit with a margin, one level per frame, so it does not
+// oscillate.
+#pragma once
+
+#include <vector>
+
+namespace pathfarm::coord {
+
+struct QualityLevel {
+    int spp = 1;
+    float rr_scale = 1.0f;    // Russian-roulette survival scale (1: unscaled)
+    float resolution = 1.0f;  // render size over display size, per axis
+};
+
+struct ScalerOptions {
+    double target_fps = 30.0;
+    int max_spp = 1;
+    float min_rr_scale = 0.5f;
+    float min_resolution = 0.5f;
+    double headroom = 0.85;  // aim frame time at this fraction of the frame interval
+};
+
+class WorkloadScaler {
+public:
+    explicit WorkloadScaler(const ScalerOptions& options);
+
+    const QualityLevel& level() const { return ladder_[index_]; }
+    // Reports how long the frame rendered at level() took (assignment to last tile), and
+    // picks the level of the next frame.
+    void observe(double frame_ms);
+    // The lowest level is in use and still slower than the target.
+    bool at_floor() const { return at_floor_; }
+    const std::vector<QualityLevel>& ladder() const { return ladder_; }
+    static double work(const QualityLevel& level);  // relative cost, 1 at 1 spp full quality
+
+private:
+    ScalerOptions o_;
+    std::vector<QualityLevel> ladder_;  // best first
+    std::size_t index_ = 0;
+    double ms_per_work_ = 0.0;  // learned k; 0 until the first frame
+    bool at_floor_ = false;
+};
+
+}  // namespace pathfarm::coord

@@ -1,0 +1,186 @@
+// Converging on real renders of builtin:cornell (Embree backend, one sample per pixel per
+// frame) against a converged reference: a still view's error falls as 1/sqrt(k); after a
+// camera move, reprojected history beats a reset where it is valid and is dropped where it
+// is not. Object motion: what a moving ball uncovers starts over.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "common/film/image_compare.h"
+#include "common/math/transform.h"
+#include "common/scene/load/builtin_scenes.h"
+#include "coordinator/converge/temporal_accumulator.h"
+#include "coordinator/scene_graph/scene_graph.h"
+#include "tests/support/render_helpers.h"
+
+namespace pathfarm::coord {
+namespace {
+
+constexpr int kSize = 48;
+
+struct Shot {
+    SceneModel scene;
+    std::shared_ptr<const AccelSnapshot> accel;
+    FrameView view;
+};
+
+// The scene as the coordinator sees it (G-buffer from its own BVH) with camera `camera`.
+Shot shoot(const Camera& camera) {
+    Shot s;
+    s.scene = make_cornell_box();
+    s.scene.cameras.at(0).camera_to_world = camera.camera_to_world;
+    SceneGraph graph(s.scene);
+    AccelUpdater accel;
+    s.accel = accel.build(graph.state(), 0);
+    s.view.camera = s.scene.cameras.at(0);
+    for (const InstanceAccel& i : s.accel->instances)
+        s.view.instances[i.id] = i.to_world;
+    s.view.gbuffer = trace_gbuffer(*s.accel, s.view.camera, kSize, kSize);
+    return s;
+}
+
+FloatImage frame(const Shot& s, uint32_t k, int spp = 1) {
+    test::RenderRequest r;
+    r.width = r.height = kSize;
+    r.spp = spp;
+    r.frame = k;
+    r.seed = 7;
+    return test::render(s.scene, r);
+}
+
+Camera cornell_camera() { return make_cornell_box().cameras.at(0); }
+
+Camera panned(float degrees) {
+    Camera c = cornell_camera();
+    c.camera_to_world =
+        c.camera_to_world * glm::rotate(Mat4(1.0f), glm::radians(degrees), Vec3(0, 1, 0));
+    return c;
+}
+
+TEST(TemporalAccumulator, StillViewConvergesAsOneOverSqrtK) {
+    const Shot s = shoot(cornell_camera());
+    const FloatImage reference = frame(s, 100000, 2048);
+    TemporalAccumulator acc;
+    std::vector<std::pair<int, double>> errors;
+    for (int k = 1; k <= 64; ++k) {
+        FloatImage img = frame(s, uint32_t(k));
+        const ConvergeStats st = acc.blend(img, s.view);
+        EXPECT_NEAR(st.mean_f, 1.0 / k, 1e-6) << "a still frame is a true running mean";
+        if (k == 1 || k == 4 || k == 16 || k == 64) errors.emplace_back(k, rmse(img, reference));
+    }
+    // Least-squares slope of log RMSE against log k: -0.5 for 1/sqrt(k).
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (auto [k, e] : errors) {
+        const double x = std::log(double(k)), y = std::log(e);
+        sx += x, sy += y, sxx += x * x, sxy += x * y;
+    }
+    const double n = double(errors.size());
+    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    EXPECT_NEAR(slope, -0.5, 0.1) << "RMSE at k=1: " << errors[0].second
+                                  << ", k=64: " << errors[3].second;
+}
+
+TEST(TemporalAccumulator, CameraMoveKeepsValidHistoryAndDropsTheRest) {
+    const Shot before = shoot(cornell_camera());
+    const Shot after = shoot(panned(4.0f));
+    const FloatImage reference = frame(after, 100000, 2048);
+    TemporalAccumulator kept;
+    for (int k = 1; k <= 32; ++k) {
+        FloatImage img = frame(before, uint32_t(k));
+        kept.blend(img, before.view);
+    }
+    double kept_error = 0.0, reset_error = 0.0;
+    TemporalAccumulator fresh;
+    for (int k = 33; k <= 36; ++k) {
+        FloatImage a = frame(after, uint32_t(k)), b = a;
+        const ConvergeStats st = kept.blend(a, after.view);
+        fresh.blend(b, after.view);
+        if (k == 33) {  // the frame of the move
+            EXPECT_GT(st.kept, 0.7) << "most of the view survives a 4 degree pan";
+            EXPECT_LT(st.kept, 0.99) << "the columns panned into view have no history";
+            // Panning left brings new columns in on the left: they start over.
+            const auto& frames = kept.history_frames();
+            for (int y = 0; y < kSize; ++y)
+                EXPECT_EQ(frames[std::size_t(y) * kSize], 1.0f) << "row " << y;
+            // Kept history is capped by the camera-motion floor.
+            for (float f : frames)
+                EXPECT_LE(f, 1.0f / ConvergeOptions{}.camera_floor + 1e-3f);
+        }
+        kept_error = rmse(a, reference);
+        reset_error = rmse(b, reference);
+    }
+    EXPECT_LT(kept_error, 0.75 * reset_error);
+}
+
+TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
+    // builtin:default seen from its camera: the gold ball moves 0.4 m along x.
+    SceneModel scene = make_default_scene();
+    SceneGraph graph(scene);
+    AccelUpdater accel;
+    const auto snapshot0 = accel.build(graph.state(), 0);
+    const uint32_t ball = graph.find_nodes("gold-ball").at(0);
+    FrameView v0;
+    v0.camera = graph.state().cameras.at(graph.state().active_camera);
+    for (const InstanceAccel& i : snapshot0->instances)
+        v0.instances[i.id] = i.to_world;
+    const int w = 96, h = 54;
+    v0.gbuffer = trace_gbuffer(*snapshot0, v0.camera, w, h);
+    ASSERT_TRUE(
+        graph.set_node_transform(ball, glm::translate(Mat4(1.0f), Vec3(1.0f, 0.35f, -4.2f))));
+    const ChangeSet changes = graph.take_changes();
+    const auto snapshot1 = accel.update(graph.state(), changes, 1);
+    FrameView v1 = v0;
+    v1.instances.clear();
+    for (const InstanceAccel& i : snapshot1->instances)
+        v1.instances[i.id] = i.to_world;
+    v1.gbuffer = trace_gbuffer(*snapshot1, v1.camera, w, h);
+    TemporalAccumulator acc;
+    FloatImage flat(w, h);
+    for (int k = 0; k < 8; ++k) {
+        FloatImage img = flat;
+        acc.blend(img, v0);
+    }
+    FloatImage img = flat;
+    acc.blend(img, v1);
+    const uint32_t ball_instance = [&] {
+        for (const auto& [id, inst] : graph.state().instances)
+            if (graph.node_of_instance(id) == ball) return id;
+        return 0u;
+    }();
+    int uncovered = 0, ball_pixels = 0;
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+        const bool was_ball = v0.gbuffer.instance[i] == ball_instance;
+        const bool is_ball = v1.gbuffer.instance[i] == ball_instance;
+        if (was_ball && !is_ball) {
+            ++uncovered;
+            EXPECT_EQ(acc.history_frames()[i], 1.0f) << "uncovered pixel " << i;
+        }
+        if (is_ball) {
+            ++ball_pixels;
+            EXPECT_LE(acc.history_frames()[i], 1.0f / ConvergeOptions{}.object_floor + 1e-3f);
+        }
+        if (!was_ball && !is_ball && v0.gbuffer.instance[i] == v1.gbuffer.instance[i]) {
+            EXPECT_EQ(acc.history_frames()[i], 9.0f) << "still surface " << i;
+        }
+    }
+    EXPECT_GT(uncovered, 10);
+    EXPECT_GT(ball_pixels, 10);
+}
+
+TEST(TemporalAccumulator, ACutStartsEveryPixelOver) {
+    const Shot s = shoot(cornell_camera());
+    TemporalAccumulator acc;
+    for (int k = 1; k <= 4; ++k) {
+        FloatImage img = frame(s, uint32_t(k));
+        acc.blend(img, s.view);
+    }
+    FrameView cut = s.view;
+    cut.cut = true;
+    FloatImage img = frame(s, 5);
+    const FloatImage raw = img;
+    EXPECT_EQ(acc.blend(img, cut).mean_f, 1.0);
+    EXPECT_EQ(img.rgb, raw.rgb);
+}
+
+}  // namespace
+}  // namespace pathfarm::coord
