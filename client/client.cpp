@@ -1,4 +1,5 @@
-// Headless client: frames arrive on the network thread and are written from this one.
+// The client loop: frames arrive on the network thread; this thread decodes, shows or
+// writes them, and gathers and sends input.
 #include "client/client.h"
 
 #include <cmath>
@@ -13,9 +14,12 @@
 #include <spdlog/spdlog.h>
 
 #include "client/contact_sheet.h"
+#include "client/game_window.h"
 #include "common/base/timer.h"
 #include "common/film/float_codec.h"
 #include "common/film/image_io.h"
+#include "common/film/jpeg_codec.h"
+#include "common/film/tonemap.h"
 #include "common/math/transform.h"
 #include "common/net/framing.h"
 #include "common/net/session.h"
@@ -25,11 +29,6 @@ namespace pathfarm::client {
 namespace {
 
 namespace pb = ::pathfarm::wire::v1;
-
-float srgb_to_linear_byte(uint8_t v) {
-    const float x = float(v) / 255.0f;
-    return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
-}
 
 class FrameQueue {
 public:
@@ -44,14 +43,18 @@ public:
         reason_ = std::move(reason);
         cv_.notify_one();
     }
-    std::optional<std::string> pop(const std::atomic<bool>& stop) {
+    // The next message, or nothing after `wait` (or once closed and drained).
+    std::optional<std::string> pop_for(std::chrono::milliseconds wait) {
         std::unique_lock lock(mutex_);
-        while (frames_.empty() && !closed_ && !stop)
-            cv_.wait_for(lock, std::chrono::milliseconds(100));
+        cv_.wait_for(lock, wait, [&] { return !frames_.empty() || closed_; });
         if (frames_.empty()) return std::nullopt;
         std::string m = std::move(frames_.front());
         frames_.pop_front();
         return m;
+    }
+    bool drained() {
+        std::lock_guard lock(mutex_);
+        return closed_ && frames_.empty();
     }
     std::string reason() {
         std::lock_guard lock(mutex_);
@@ -66,50 +69,102 @@ private:
     std::string reason_;
 };
 
-// Decodes a frame to linear float (PNG frames are decoded from sRGB).
-Result<FloatImage> decode_frame(const pb::EncodedFrame& f) {
-    FloatImage img(int(f.width()), int(f.height()));
+// A frame ready to show (sRGB bytes) and, for lossless float frames, its linear pixels.
+struct DecodedFrame {
+    int width = 0, height = 0;
+    std::vector<uint8_t> srgb8;
+    std::optional<FloatImage> linear;
+};
+
+Result<DecodedFrame> decode_frame(const pb::EncodedFrame& f) {
+    DecodedFrame d{int(f.width()), int(f.height()), {}, {}};
+    if (d.width <= 0 || d.height <= 0 || d.width > 16384 || d.height > 16384)
+        return make_error(ErrorCode::parse_error, "frame {}: size {}x{}", f.frame(), d.width,
+                          d.height);
     if (f.codec() == pb::FRAME_CODEC_FLOAT_ZSTD) {
-        auto rgb = decompress_floats(f.data(), std::size_t(f.width()) * f.height() * 3);
+        auto rgb = decompress_floats(f.data(), std::size_t(d.width) * d.height * 3);
         if (!rgb) return rgb.error();
-        img.rgb = std::move(*rgb);
-        return img;
+        d.linear = FloatImage(d.width, d.height);
+        d.linear->rgb = std::move(*rgb);
+        d.srgb8 = tonemap_to_srgb8(*d.linear);
+        return d;
     }
-    if (f.codec() != pb::FRAME_CODEC_PNG)
+    int w = 0, h = 0;
+    if (f.codec() == pb::FRAME_CODEC_JPEG) {
+        auto jpeg = decode_jpeg(f.data());
+        if (!jpeg) return jpeg.error();
+        w = jpeg->width;
+        h = jpeg->height;
+        d.srgb8 = std::move(jpeg->rgb);
+    } else if (f.codec() == pb::FRAME_CODEC_PNG) {
+        auto png = decode_rgba8(reinterpret_cast<const unsigned char*>(f.data().data()),
+                                f.data().size(), "frame.png");
+        if (!png) return png.error();
+        w = png->width;
+        h = png->height;
+        d.srgb8.resize(std::size_t(w) * h * 3);
+        for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
+            for (int c = 0; c < 3; ++c)
+                d.srgb8[i * 3 + c] = png->rgba[i * 4 + c];
+    } else {
         return make_error(ErrorCode::unsupported, "frame {}: codec {} not supported", f.frame(),
                           int(f.codec()));
-    auto png = decode_rgba8(reinterpret_cast<const unsigned char*>(f.data().data()),
-                            f.data().size(), "frame.png");
-    if (!png) return png.error();
-    if (png->width != img.width || png->height != img.height)
-        return make_error(ErrorCode::parse_error, "frame {}: PNG is {}x{}, frame {}x{}", f.frame(),
-                          png->width, png->height, img.width, img.height);
-    for (std::size_t i = 0; i < std::size_t(img.width) * img.height; ++i)
-        for (int c = 0; c < 3; ++c)
-            img.rgb[i * 3 + c] = srgb_to_linear_byte(png->rgba[i * 4 + c]);
-    return img;
+    }
+    if (w != d.width || h != d.height)
+        return make_error(ErrorCode::parse_error, "frame {}: image is {}x{}, frame {}x{}",
+                          f.frame(), w, h, d.width, d.height);
+    return d;
 }
 
-Status write_frame(const ClientOptions& o, const pb::EncodedFrame& f, const FloatImage& img) {
+Status write_frame(const ClientOptions& o, const pb::EncodedFrame& f, const DecodedFrame& d) {
     if (o.out_dir.empty()) return {};
     const std::string base = fmt::format("{}/frame_{:06d}", o.out_dir, f.frame());
-    if (f.codec() == pb::FRAME_CODEC_PNG) {  // keep the coordinator's bytes
-        std::ofstream(base + ".png", std::ios::binary) << f.data();
-        return {};
-    }
-    return write_image(base + ".exr", img);
+    if (d.linear) return write_image(base + ".exr", *d.linear);
+    // Keep the coordinator's bytes.
+    std::ofstream(base + (f.codec() == pb::FRAME_CODEC_PNG ? ".png" : ".jpg"), std::ios::binary)
+        << f.data();
+    return {};
 }
 
-void send_pose(net::Session& s, uint64_t sequence, const Mat4& pose) {
-    pb::Envelope e;
-    e.set_version(net::kProtocolVersion);
-    auto* in = e.mutable_input();
-    in->set_sequence(sequence);
-    in->set_timestamp_us(uint64_t(std::chrono::duration_cast<std::chrono::microseconds>(
-                                      std::chrono::steady_clock::now().time_since_epoch())
-                                      .count()));
-    in->set_camera_to_world(std::string(reinterpret_cast<const char*>(&pose[0][0]), sizeof(Mat4)));
-    s.send(e.SerializeAsString());
+class InputSender {
+public:
+    InputSender(net::Session& session, LatencyStats& stats) : session_(session), stats_(stats) {}
+
+    void send(const std::optional<Mat4>& pose, const std::array<float, 5>& move, bool action) {
+        pb::Envelope e;
+        e.set_version(net::kProtocolVersion);
+        auto* in = e.mutable_input();
+        const auto now = LatencyStats::Clock::now();
+        in->set_sequence(++sequence_);
+        in->set_timestamp_us(uint64_t(
+            std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count()));
+        if (pose)
+            in->set_camera_to_world(
+                std::string(reinterpret_cast<const char*>(&(*pose)[0][0]), sizeof(Mat4)));
+        if (move != std::array<float, 5>{})
+            for (float m : move)
+                in->add_move(m);
+        in->set_action(action);
+        stats_.input_sent(sequence_, now);
+        session_.send(e.SerializeAsString());
+    }
+
+private:
+    net::Session& session_;
+    LatencyStats& stats_;
+    uint64_t sequence_ = 0;
+};
+
+int codec_for(OutputFormat f) {
+    switch (f) {
+        case OutputFormat::exr:
+            return int(pb::FRAME_CODEC_FLOAT_ZSTD);
+        case OutputFormat::png:
+            return int(pb::FRAME_CODEC_PNG);
+        case OutputFormat::jpeg:
+            break;
+    }
+    return int(pb::FRAME_CODEC_JPEG);
 }
 
 }  // namespace
@@ -135,6 +190,7 @@ Result<std::map<uint64_t, Mat4>> read_camera_script(const std::string& path) {
 }
 
 Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>& stop) {
+    using Clock = LatencyStats::Clock;
     std::map<uint64_t, Mat4> script;
     if (!o.script.empty()) {
         auto s = read_camera_script(o.script);
@@ -142,6 +198,15 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
         script = std::move(*s);
     }
     if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
+    LatencyStats stats;
+    if (!o.latency_csv.empty())
+        if (Status s = stats.open_csv(o.latency_csv); !s) return s.error();
+    std::unique_ptr<GameWindow> window;
+    if (o.window) {
+        auto w = GameWindow::open("pathfarm");
+        if (!w) return w.error();
+        window = std::move(*w);
+    }
     net::NetService net;
     auto queue = std::make_shared<FrameQueue>();
     net::ClientConfig config;
@@ -149,36 +214,70 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
     config.port = o.port;
     config.secret = o.secret;
     config.hello.role = net::PeerRole::client;
-    config.hello.name = "headless-client";
-    config.hello.codecs = {o.format == OutputFormat::exr ? int(pb::FRAME_CODEC_FLOAT_ZSTD)
-                                                         : int(pb::FRAME_CODEC_PNG)};
+    config.hello.name = o.window ? "window-client" : "headless-client";
+    config.hello.codecs = {codec_for(o.format)};
     config.on_message = [queue](std::string&& m) { queue->push(std::move(m)); };
     config.on_closed = [queue](const std::string& reason) { queue->close(reason); };
     auto session = net.connect_sync(config);
     if (!session) return session.error();
-    if (auto first = script.find(0); first != script.end()) send_pose(**session, 1, first->second);
+    InputSender input(**session, stats);
+    if (auto first = script.find(0); first != script.end()) input.send(first->second, {}, false);
     ClientReport report;
     ContactSheet sheet(o.frames > 0 ? (o.frames + 15) / 16 : 1);
     Timer timer;
-    uint64_t sequence = 1;
-    while (auto bytes = queue->pop(stop)) {
-        pb::Envelope e;
-        if (!e.ParseFromString(*bytes) || !e.has_frame()) continue;
-        if (report.frames == 0) timer.reset();  // frame rate between frames, not connection time
-        auto image = decode_frame(e.frame());
-        if (!image) {
-            spdlog::error("{}", image.error().message);
-            continue;
+    // Input is gathered continuously and sent at most every 16 ms (and with every action).
+    constexpr auto kInputPeriod = std::chrono::milliseconds(16);
+    Clock::time_point last_poll = Clock::now(), last_send = last_poll, last_action = last_poll;
+    WindowInput pending;
+    while (!stop && !queue->drained()) {
+        if (auto bytes = queue->pop_for(std::chrono::milliseconds(4))) {
+            pb::Envelope e;
+            if (!e.ParseFromString(*bytes) || !e.has_frame()) continue;
+            const pb::EncodedFrame& f = e.frame();
+            stats.frame_arrived(f.frame(), f.last_input_sequence(), Clock::now());
+            if (report.frames == 0) timer.reset();  // between frames, not connection time
+            auto frame = decode_frame(f);
+            if (!frame) {
+                spdlog::error("{}", frame.error().message);
+                continue;
+            }
+            if (Status s = write_frame(o, f, *frame); !s) spdlog::error("{}", s.error().message);
+            if (window) {
+                if (Status s = window->show(frame->width, frame->height, frame->srgb8); !s)
+                    return s.error();
+                if (report.frames + 1 == o.screenshot_frame && !o.screenshot.empty())
+                    if (Status s = window->screenshot(o.screenshot); !s) return s.error();
+            }
+            sheet.add(uint64_t(report.frames), frame->width, frame->height, frame->srgb8);
+            ++report.frames;
+            if (auto next = script.find(f.frame() + 1); next != script.end())
+                input.send(next->second, {}, false);
+            if (o.frames > 0 && report.frames >= o.frames) break;
         }
-        if (Status s = write_frame(o, e.frame(), *image); !s)
-            spdlog::error("{}", s.error().message);
-        sheet.add(uint64_t(report.frames), *image);
-        ++report.frames;
-        if (auto next = script.find(e.frame().frame() + 1); next != script.end())
-            send_pose(**session, ++sequence, next->second);
-        if (o.frames > 0 && report.frames >= o.frames) break;
+        const auto now = Clock::now();
+        const double dt = std::chrono::duration<double>(now - last_poll).count();
+        last_poll = now;
+        if (window) {
+            const WindowInput w = window->poll(dt);
+            if (w.quit) break;
+            for (std::size_t k = 0; k < 5; ++k)
+                pending.move[k] += w.move[k];
+            pending.action = pending.action || w.action;
+        } else if (report.frames > 0) {  // a scripted player: turns, and acts once a second
+            pending.move[3] += float(o.turn_rate * dt);
+            if (o.action_each_second && now - last_action >= std::chrono::seconds(1)) {
+                pending.action = true;
+                last_action = now;
+            }
+        }
+        if (pending.any() && (pending.action || now - last_send >= kInputPeriod)) {
+            input.send(std::nullopt, pending.move, pending.action);
+            pending = WindowInput{};
+            last_send = now;
+        }
     }
     report.seconds = timer.seconds();
+    report.latency = stats.summary();
     if (!o.contact_sheet.empty())
         if (Status s = sheet.write(o.contact_sheet); !s) spdlog::error("{}", s.error().message);
     if (report.frames == 0 && !stop)

@@ -1,33 +1,41 @@
-// The thin client, headless part: connects to a coordinator's client port, sends scripted
-// input, receives frames and writes them to files. The SDL window comes with the real-time
-// issue.
+// The thin client: connects to a coordinator's client port, sends the player's input (from
+// the SDL window, or scripted when headless), receives frames, shows or writes them, and
+// measures input-to-frame latency and frame pacing.
 #pragma once
 
 #include <atomic>
 #include <map>
 #include <string>
 
+#include "client/latency_stats.h"
 #include "common/base/result.h"
 #include "common/math/types.h"
 
 namespace pathfarm::client {
 
-enum class OutputFormat { png, exr };
+enum class OutputFormat { jpeg, png, exr };
 
 struct ClientOptions {
     std::string host = "127.0.0.1";
     uint16_t port = 0;
     std::string secret;
+    bool window = false;  // SDL2 window with keyboard and mouse; else headless
     int frames = 0;       // stop after this many frames (0: until the coordinator closes)
     std::string out_dir;  // empty: do not write frames
-    OutputFormat format = OutputFormat::png;
-    std::string script;         // camera script file
-    std::string contact_sheet;  // PNG of up to 16 evenly spaced frames; empty: none
+    OutputFormat format = OutputFormat::jpeg;
+    std::string script;               // camera script file
+    double turn_rate = 0.0;           // headless: a scripted player turning this many rad/s
+    bool action_each_second = false;  // headless: press the action key once a second
+    std::string contact_sheet;        // PNG of up to 16 evenly spaced frames; empty: none
+    std::string latency_csv;          // per frame: arrival, interval, inputs answered, latency
+    std::string screenshot;           // window: PNG of the window after `screenshot_frame` frames
+    int screenshot_frame = 10;
 };
 
 struct ClientReport {
     int frames = 0;
     double seconds = 0.0;
+    LatencySummary latency;
     double fps() const { return seconds > 0.0 ? frames / seconds : 0.0; }
 };
 

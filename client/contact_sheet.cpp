@@ -1,23 +1,29 @@
-// Box-filtered thumbnails, tonemapped like the frames.
+// Box-filtered thumbnails of the frames as shown.
 #include "client/contact_sheet.h"
 
 #include "common/film/image_io.h"
-#include "common/film/tonemap.h"
 
 namespace pathfarm::client {
 
-void ContactSheet::add(uint64_t frame, const FloatImage& image) {
-    if (frame % uint64_t(every_) != 0 || thumbs_.size() >= 16 || image.width <= 0) return;
-    const int scale = std::max(1, image.width / 160);
-    FloatImage small(image.width / scale, image.height / scale);
-    for (int y = 0; y < small.height * scale; ++y)
-        for (int x = 0; x < small.width * scale; ++x)
-            small.set_pixel(
-                x / scale, y / scale,
-                small.pixel(x / scale, y / scale) + image.pixel(x, y) / float(scale * scale));
-    thumb_w_ = small.width;
-    thumb_h_ = small.height;
-    thumbs_.push_back(tonemap_to_srgb8(small));
+void ContactSheet::add(uint64_t frame, int width, int height, const std::vector<uint8_t>& srgb8) {
+    if (frame % uint64_t(every_) != 0 || thumbs_.size() >= 16 || width <= 0) return;
+    const int scale = std::max(1, width / 160);
+    const int tw = width / scale, th = height / scale;
+    if (!thumbs_.empty() && (tw != thumb_w_ || th != thumb_h_)) return;  // one size per sheet
+    std::vector<uint8_t> thumb(std::size_t(tw) * th * 3);
+    for (int y = 0; y < th; ++y)
+        for (int x = 0; x < tw; ++x)
+            for (int c = 0; c < 3; ++c) {
+                int sum = 0;
+                for (int dy = 0; dy < scale; ++dy)
+                    for (int dx = 0; dx < scale; ++dx)
+                        sum +=
+                            srgb8[(std::size_t(y * scale + dy) * width + x * scale + dx) * 3 + c];
+                thumb[(std::size_t(y) * tw + x) * 3 + c] = uint8_t(sum / (scale * scale));
+            }
+    thumb_w_ = tw;
+    thumb_h_ = th;
+    thumbs_.push_back(std::move(thumb));
 }
 
 Status ContactSheet::write(const std::string& path) const {

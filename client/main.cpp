@@ -1,4 +1,4 @@
-// pathfarm-client command line (headless mode).
+// pathfarm-client command line: the SDL2 window, or --headless.
 #include <csignal>
 #include <cstdio>
 
@@ -17,32 +17,39 @@ void request_stop(int) { g_stop = true; }
 
 int main(int argc, char** argv) {
     pathfarm::client::ClientOptions o;
-    std::string connect, secret_file, format = "png";
+    std::string connect, secret_file, format = "jpeg";
     bool headless = false;
     CLI::App app{"pathfarm-client: the thin game client of a pathfarm farm"};
     app.add_option("--connect", connect, "Coordinator client port, HOST:PORT")->required();
     app.add_option("--secret-file", secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
-    app.add_flag("--headless", headless, "No window: write frames to --out");
+    app.add_flag("--headless", headless,
+                 "No window: write frames to --out (default: a window with WASD + mouse look, "
+                 "E for action, Esc to quit)");
     app.add_option("--frames", o.frames,
                    "Stop after this many frames (0: until the coordinator closes)")
         ->capture_default_str();
     app.add_option("--out", o.out_dir, "Folder for received frames");
     app.add_option("--format", format,
-                   "Frame format to request and write: png or exr (lossless linear float)")
+                   "Frame format to request and write: jpeg, png or exr (lossless linear float)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"png", "exr"}));
+        ->check(CLI::IsMember({"jpeg", "png", "exr"}));
+    app.add_option("--latency-csv", o.latency_csv,
+                   "Per frame: frame,arrival_ms,interval_ms,inputs_acked,latency_ms");
+    app.add_option("--turn-rate", o.turn_rate,
+                   "Headless: a scripted player turning at this many rad/s (input for latency)")
+        ->capture_default_str();
+    app.add_flag("--action-every-second", o.action_each_second,
+                 "Headless: press the action key once a second");
+    app.add_option("--screenshot", o.screenshot, "Window: PNG of the window at --screenshot-frame");
+    app.add_option("--screenshot-frame", o.screenshot_frame, "Frame for --screenshot")
+        ->capture_default_str();
     app.add_option("--script", o.script, "Camera script: lines of FRAME eye_xyz target_xyz");
     app.add_option("--contact-sheet", o.contact_sheet,
                    "PNG with thumbnails of up to 16 evenly spaced frames");
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-client"))
         return *exit_code;
-    if (!headless) {
-        std::fprintf(stderr,
-                     "pathfarm-client: only --headless is available in this build (the window "
-                     "comes with SDL2)\n");
-        return 2;
-    }
+    o.window = !headless;
     const auto colon = connect.rfind(':');
     const int port = colon == std::string::npos ? 0 : std::atoi(connect.c_str() + colon + 1);
     if (port <= 0 || port > 65535) {
@@ -52,8 +59,9 @@ int main(int argc, char** argv) {
     }
     o.host = connect.substr(0, colon);
     o.port = uint16_t(port);
-    o.format =
-        format == "exr" ? pathfarm::client::OutputFormat::exr : pathfarm::client::OutputFormat::png;
+    o.format = format == "exr"   ? pathfarm::client::OutputFormat::exr
+               : format == "png" ? pathfarm::client::OutputFormat::png
+                                 : pathfarm::client::OutputFormat::jpeg;
     auto secret = pathfarm::net::load_secret(secret_file);
     if (!secret) {
         std::fprintf(stderr, "pathfarm-client: %s\n", secret.error().message.c_str());
@@ -70,7 +78,12 @@ int main(int argc, char** argv) {
                    ? 2
                    : 1;
     }
+    const auto& l = report->latency;
     std::printf("frames=%d seconds=%.3f fps=%.2f\n", report->frames, report->seconds,
                 report->fps());
+    std::printf(
+        "inputs=%zu latency_p50_ms=%.1f latency_p99_ms=%.1f interval_p50_ms=%.1f "
+        "interval_p99_ms=%.1f\n",
+        l.inputs, l.latency_p50_ms, l.latency_p99_ms, l.interval_p50_ms, l.interval_p99_ms);
     return 0;
 }
