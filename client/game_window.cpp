@@ -31,21 +31,30 @@ Result<std::unique_ptr<GameWindow>> GameWindow::open(const std::string& title) {
         return make_error(ErrorCode::unsupported,
                           "no window: {} (set DISPLAY, or run with --headless)", SDL_GetError());
     auto impl = std::make_unique<Impl>();
+    const std::string driver = SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "";
+    if (driver == "dummy" || driver == "offscreen" || driver.empty())
+        return make_error(ErrorCode::unsupported,
+                          "no window: no display (SDL video driver \"{}\"); set DISPLAY, or run "
+                          "with --headless",
+                          driver);
     impl->title = title;
+    // Created now so that a missing display fails before connecting; sized by the first frame.
+    impl->window = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
+                                    640, 360, SDL_WINDOW_SHOWN);
+    if (!impl->window)
+        return make_error(ErrorCode::unsupported, "no window: {} (run with --headless)",
+                          SDL_GetError());
+    impl->renderer = SDL_CreateRenderer(impl->window, -1, 0);
+    if (!impl->renderer) return make_error(ErrorCode::io_error, "renderer: {}", SDL_GetError());
+    impl->relative_mouse = SDL_SetRelativeMouseMode(SDL_TRUE) == 0;
     return std::unique_ptr<GameWindow>(new GameWindow(std::move(impl)));
 }
 
 Status GameWindow::show(int width, int height, const std::vector<uint8_t>& srgb8) {
     Impl& s = *impl_;
-    if (!s.window) {
-        // Small frames get a window twice their size; SDL scales the texture.
+    if (!s.texture) {  // the first frame: small frames get a window twice their size
         const int scale = width < 640 ? 2 : 1;
-        s.window = SDL_CreateWindow(s.title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
-                                    width * scale, height * scale, SDL_WINDOW_SHOWN);
-        if (!s.window) return make_error(ErrorCode::io_error, "window: {}", SDL_GetError());
-        s.renderer = SDL_CreateRenderer(s.window, -1, 0);
-        if (!s.renderer) return make_error(ErrorCode::io_error, "renderer: {}", SDL_GetError());
-        s.relative_mouse = SDL_SetRelativeMouseMode(SDL_TRUE) == 0;
+        SDL_SetWindowSize(s.window, width * scale, height * scale);
     }
     if (!s.texture || s.width != width || s.height != height) {
         if (s.texture) SDL_DestroyTexture(s.texture);

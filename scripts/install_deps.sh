@@ -10,7 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libasio-dev libprotobuf-dev protobuf-compiler libssl-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
-  gnuplot-nox libturbojpeg0-dev libsdl2-dev xvfb xauth
+  gnuplot-nox libturbojpeg0-dev libsdl2-dev xvfb xauth xdotool
 )
 
 missing=()

@@ -150,6 +150,7 @@ private:
     TemporalAccumulator accumulator_;
     FrameQuality q_;                        // of frame_
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
+    Timer run_clock_;                       // since the farm started: stats' wall_ms
     AccelUpdater accel_;
     std::shared_ptr<const AccelSnapshot> accel_snapshot_;
     std::mutex mutex_;
@@ -524,7 +525,8 @@ void Farm::finish_frame(PreparedFrame& p, double frame_ms) {
         stats_ << frame_ << ',' << tracer_count << ',' << frame_ms << ',' << idle_pct << ','
                << p.plain_bytes << ',' << tile_bytes << ',' << q_.spp << ',' << q_.rr_scale << ','
                << q_.width << ',' << q_.height << ',' << converged.mean_f << ',' << converged.kept
-               << ',' << int(at_floor) << ',' << display_ms << '\n';
+               << ',' << int(at_floor) << ',' << display_ms << ',' << run_clock_.milliseconds()
+               << '\n';
     stats_.flush();  // live monitoring and tests read these while the farm runs
     tracer_stats_.flush();
     lock.lock();
@@ -585,7 +587,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
     if (!o_.stats_csv.empty()) {
         stats_.open(o_.stats_csv);
         stats_ << "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp,rr_scale,"
-                  "render_width,render_height,f,kept,at_floor,display_ms\n";
+                  "render_width,render_height,f,kept,at_floor,display_ms,wall_ms\n";
     }
     if (!o_.record_costs.empty()) {
         costs_.open(o_.record_costs);

@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/farm_harness.h"
 #include "tests/support/process.h"
 #include "tests/support/test_env.h"
 #include "tracer-node/tracer_daemon.h"
@@ -23,97 +24,13 @@ namespace pathfarm {
 namespace {
 
 using namespace std::chrono_literals;
+using test::Farm;
+using test::free_port;
+using test::kClient;
+using test::kCoordinator;
+using test::kRender;
+using test::kTracer;
 using test::Process;
-
-const std::string kCoordinator = PATHFARM_COORDINATOR_EXE;
-const std::string kTracer = PATHFARM_TRACER_EXE;
-const std::string kClient = PATHFARM_CLIENT_EXE;
-const std::string kRender = PATHFARM_RENDER_EXE;
-
-struct Farm {
-    std::string dir = test::scratch_dir();
-    std::unique_ptr<Process> coordinator;
-    std::vector<std::unique_ptr<Process>> tracers;
-    int tracer_port = 0, client_port = 0;
-
-    Farm() { setenv("PATHFARM_SECRET", "farm-test-secret", 1); }
-
-    void start(std::vector<std::string> extra, int port = 0) {
-        std::vector<std::string> args{kCoordinator, "--scene", "builtin:default", "--tracer-port",
-                                      std::to_string(port), "--client-port", "0", "--width", "64",
-                                      "--height", "50", "--spp", "2", "--dump-frames",
-                                      dir + "/dump", "--stats-csv", dir + "/stats.csv",
-                                      "--tracer-stats-csv", dir + "/tracers.csv",
-                                      // Bit-exact frames: no pacing, scaling, blending or game.
-                                      "--fixed-spp", "--no-converge", "--game", "free-camera"};
-        args.insert(args.end(), extra.begin(), extra.end());
-        coordinator = std::make_unique<Process>(args, dir + "/coordinator.log");
-        const auto line = test::wait_for_text(dir + "/coordinator.log", "tracer_port=", 10s);
-        ASSERT_TRUE(line.has_value()) << test::read_file(dir + "/coordinator.log");
-        std::istringstream ls(*line);
-        ls >> tracer_port;
-        client_port = std::stoi(line->substr(line->find("client_port=") + 12));
-    }
-    Process& add_tracer(const std::string& name, std::vector<std::string> extra = {}) {
-        std::vector<std::string> args{kTracer,
-                                      "--coordinator",
-                                      "127.0.0.1:" + std::to_string(tracer_port),
-                                      "--name",
-                                      name,
-                                      "--threads",
-                                      "1"};
-        args.insert(args.end(), extra.begin(), extra.end());
-        tracers.push_back(std::make_unique<Process>(args, dir + "/" + name + ".log"));
-        return *tracers.back();
-    }
-    int finish(std::chrono::milliseconds timeout = 60s) {
-        const auto rc = coordinator->wait(timeout);
-        EXPECT_TRUE(rc.has_value()) << "coordinator did not finish\n"
-                                    << test::read_file(dir + "/coordinator.log");
-        return rc.value_or(-1);
-    }
-    std::string reference(int frame) {
-        const std::string out = dir + "/reference_" + std::to_string(frame) + ".pfm";
-        Process render(
-            {kRender, "--scene", "builtin:default", "--width", "64", "--height", "50", "--spp", "2",
-             "--frame", std::to_string(frame), "--out", out, "--log-level", "error"},
-            dir + "/render.log");
-        EXPECT_EQ(render.wait(30s), std::optional<int>(0)) << test::read_file(dir + "/render.log");
-        return out;
-    }
-    std::string frame(int f) const {
-        char name[32];
-        std::snprintf(name, sizeof(name), "/dump/frame_%06d.pfm", f);
-        return dir + name;
-    }
-    std::vector<std::vector<std::string>> csv(const std::string& file) const {
-        std::vector<std::vector<std::string>> rows;
-        std::ifstream in(dir + "/" + file);
-        std::string line;
-        std::getline(in, line);
-        while (std::getline(in, line)) {
-            std::vector<std::string> row;
-            std::stringstream ls(line);
-            std::string cell;
-            while (std::getline(ls, cell, ','))
-                row.push_back(cell);
-            rows.push_back(row);
-        }
-        return rows;
-    }
-};
-
-int free_port() {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
-    socklen_t len = sizeof(addr);
-    getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-    close(fd);
-    return ntohs(addr.sin_port);
-}
 
 class FarmDeterminism : public ::testing::TestWithParam<int> {};
 

@@ -1,0 +1,191 @@
+// The real-time loop with real processes: converging, workload scaling, the game, input echo
+// and latency, and the SDL window under Xvfb driven by xdotool. Figures (frame-rate hold,
+// latency) are measured by bench/realtime_bench.py, not asserted here.
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "common/film/image_io.h"
+#include "tests/support/farm_harness.h"
+#include "tests/support/process.h"
+#include "tests/support/test_env.h"
+
+namespace pathfarm {
+namespace {
+
+using namespace std::chrono_literals;
+using test::Farm;
+using test::kClient;
+using test::kCoordinator;
+using test::Process;
+
+// Stats CSV columns (coordinator/session/farm_coordinator.cpp).
+enum Column { kFrame = 0, kCommitBytes = 4, kSpp = 6, kRr = 7, kRenderW = 8, kF = 10, kKept = 11 };
+
+double num(const std::vector<std::string>& row, int col) { return std::stod(row.at(col)); }
+
+TEST(RealtimeFarm, StillViewConvergesAndClientInputIsEchoed) {
+    Farm farm;
+    farm.mode = {"--game", "free-camera", "--target-fps", "20"};  // a still scene
+    farm.start({"--frames", "24", "--min-tracers", "2"});
+    Process client({kClient, "--connect", "127.0.0.1:" + std::to_string(farm.client_port),
+                    "--headless", "--frames", "24", "--latency-csv", farm.dir + "/latency.csv",
+                    "--action-every-second", "--out", farm.dir + "/received"},
+                   farm.dir + "/client.log");
+    ASSERT_TRUE(
+        test::wait_for_text(farm.dir + "/coordinator.log", "\"headless-client\" connected", 10s));
+    farm.add_tracer("a", {"--max-reconnects", "0"});
+    farm.add_tracer("b", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    EXPECT_EQ(client.wait(30s), std::optional<int>(0)) << test::read_file(farm.dir + "/client.log");
+    const auto rows = farm.csv("stats.csv");
+    ASSERT_GE(rows.size(), 20u);
+    // Nothing moves: frame k blends with weight 1/(k+1) (a running mean) and keeps all history,
+    // unless workload scaling changed the render size (the mean restarts, still exact).
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        if (num(rows[k], kRenderW) != num(rows[k - 1], kRenderW)) continue;
+        EXPECT_NEAR(num(rows[k], kKept), 1.0, 1e-9) << "frame " << k;
+        EXPECT_LT(num(rows[k], kF), num(rows[k - 1], kF) + 1e-9) << "frame " << k;
+    }
+    EXPECT_LT(num(rows.back(), kF), 0.2);
+    // The client's actions came back as echoed sequence numbers, with latencies.
+    const std::string log = test::read_file(farm.dir + "/client.log");
+    EXPECT_NE(log.find("latency_p50_ms="), std::string::npos) << log;
+    std::ifstream csv(farm.dir + "/latency.csv");
+    std::string line;
+    int acked = 0;
+    while (std::getline(csv, line))
+        acked += line.find(",1,") != std::string::npos || line.find(",2,") != std::string::npos;
+    EXPECT_GE(acked, 1) << test::read_file(farm.dir + "/latency.csv");
+    EXPECT_NE(test::read_file(farm.dir + "/coordinator.log").find("action: the crosshair"),
+              std::string::npos);
+    EXPECT_TRUE(std::ifstream(farm.dir + "/received/frame_000010.jpg").good()) << "JPEG frames";
+}
+
+TEST(RealtimeFarm, WorkloadScalingDropsQualityWhenTheFarmIsTooSlow) {
+    Farm farm;
+    farm.mode = {"--target-fps", "10"};
+    farm.spp = 4;
+    farm.start({"--frames", "16"});
+    farm.add_tracer("slow", {"--slowdown", "30", "--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    const auto rows = farm.csv("stats.csv");
+    ASSERT_EQ(rows.size(), 16u);
+    EXPECT_EQ(num(rows.front(), kSpp), 4.0);
+    // 64x50 at 4 spp takes far longer than 100 ms at 30x slowdown: spp goes first, then the
+    // roulette, then the resolution.
+    const auto& last = rows.back();
+    EXPECT_EQ(num(last, kSpp), 1.0);
+    EXPECT_EQ(num(last, kRr), 0.5);
+    EXPECT_LT(num(last, kRenderW), 64.0);
+    // Frames still reach the client at the display size: the dump is 64x50 throughout.
+    EXPECT_TRUE(std::ifstream(farm.frame(15)).good());
+}
+
+TEST(RealtimeFarm, DefaultGameMovesTheBallAndSwitchesTheLight) {
+    Farm farm;
+    farm.mode = {"--fixed-spp", "--fps", "10"};  // game clock at 10 frames a second
+    farm.start({"--frames", "36"});
+    farm.add_tracer("t", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    const auto rows = farm.csv("stats.csv");
+    ASSERT_EQ(rows.size(), 36u);
+    // Every frame moves the ball (an instance edit); the spot light goes off at t = 3 s, so
+    // frame 30 carries a material edit (more bytes) and converging restarts there (a cut).
+    for (int f = 1; f < 36; ++f)
+        EXPECT_GT(num(rows[std::size_t(f)], kCommitBytes), 4.0) << "frame " << f;
+    EXPECT_GT(num(rows[30], kCommitBytes), num(rows[29], kCommitBytes));
+    EXPECT_EQ(num(rows[30], kF), 1.0);
+    EXPECT_EQ(num(rows[30], kKept), 0.0);
+    EXPECT_LT(num(rows[29], kF), 0.5);
+}
+
+// The window: under Xvfb, xdotool holds W, presses E and moves the mouse; the window's own
+// screenshot must show one of the frames the client received.
+TEST(RealtimeClient, WindowShowsFramesAndSendsKeyboardAndMouseInput) {
+    const bool have_x = std::system(
+                            "command -v xvfb-run >/dev/null && command -v xdotool "
+                            ">/dev/null") == 0;
+    if (!have_x) {
+        if (std::getenv("CI")) FAIL() << "xvfb-run and xdotool are required in CI";
+        GTEST_SKIP() << "xvfb-run or xdotool missing (scripts/install_deps.sh installs them)";
+    }
+    Farm farm;
+    farm.mode = {"--game", "free-camera", "--target-fps", "10"};
+    farm.start({"--frames", "60"});
+    farm.add_tracer("t", {"--max-reconnects", "0"});
+    const std::string script = farm.dir + "/play.sh";
+    std::ofstream(script) << "set -e\n"
+                          << kClient << " --connect 127.0.0.1:" << farm.client_port
+                          << " --frames 40 --format png --out " << farm.dir << "/received"
+                          << " --screenshot " << farm.dir << "/window.png --screenshot-frame 30"
+                          << " > " << farm.dir << "/client.log 2>&1 &\n"
+                          << "client=$!\n"
+                          << "xdotool search --sync --name pathfarm windowfocus || true\n"
+                          << "xdotool keydown w; sleep 0.8; xdotool keyup w\n"
+                          << "xdotool key e\n"
+                          << "xdotool mousemove_relative 30 0\n"
+                          << "wait $client\n";
+    Process xvfb({"/bin/bash", "-c", "xvfb-run -a bash " + script}, farm.dir + "/xvfb.log");
+    ASSERT_EQ(xvfb.wait(60s), std::optional<int>(0))
+        << test::read_file(farm.dir + "/xvfb.log") << test::read_file(farm.dir + "/client.log");
+    farm.coordinator->kill(SIGTERM);
+    farm.finish();
+    // W moved the camera (commits carry camera edits), E reached the game.
+    const auto rows = farm.csv("stats.csv");
+    int moving = 0;
+    for (const auto& r : rows)
+        moving += num(r, kCommitBytes) > 4.0 && num(r, kFrame) > 0.0;
+    EXPECT_GE(moving, 3) << "frames whose commit carried a camera move";
+    EXPECT_NE(test::read_file(farm.dir + "/coordinator.log").find("action: the crosshair"),
+              std::string::npos);
+    // The window's pixels (2x the frame) match one received frame.
+    const std::string shot = test::read_file(farm.dir + "/window.png");
+    auto window = decode_rgba8(reinterpret_cast<const unsigned char*>(shot.data()), shot.size(),
+                               "window.png");
+    ASSERT_TRUE(window.ok()) << window.error().message;
+    ASSERT_EQ(window->width, 128);
+    ASSERT_EQ(window->height, 100);
+    double best = 1e9;
+    for (int f = 0; f < 60; ++f) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "/received/frame_%06d.png", f);
+        const std::string bytes = test::read_file(farm.dir + name);
+        if (bytes.empty()) continue;
+        auto frame =
+            decode_rgba8(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), name);
+        if (!frame.ok()) continue;
+        double diff = 0.0;
+        for (int y = 0; y < 50; ++y)
+            for (int x = 0; x < 64; ++x)
+                for (int c = 0; c < 3; ++c)
+                    diff += std::abs(int(window->rgba[(std::size_t(2 * y) * 128 + 2 * x) * 4 + c]) -
+                                     int(frame->rgba[(std::size_t(y) * 64 + x) * 4 + c]));
+        best = std::min(best, diff / (64.0 * 50.0 * 3.0));
+    }
+    EXPECT_LT(best, 1.0) << "mean absolute difference (of 255) to the closest received frame";
+}
+
+TEST(RealtimeCli, BadInputIsAOneLineError) {
+    Farm farm;
+    Process cornell(
+        {kCoordinator, "--scene", "builtin:cornell", "--tracer-port", "0", "--game", "default"},
+        farm.dir + "/a.log");
+    EXPECT_EQ(cornell.wait(10s), std::optional<int>(2));
+    EXPECT_NE(test::read_file(farm.dir + "/a.log").find("not builtin:default"), std::string::npos)
+        << test::read_file(farm.dir + "/a.log");
+    Process quality(
+        {kCoordinator, "--scene", "builtin:default", "--tracer-port", "0", "--jpeg-quality", "0"},
+        farm.dir + "/b.log");
+    EXPECT_EQ(quality.wait(10s), std::optional<int>(2));
+    unsetenv("DISPLAY");
+    Process no_display({kClient, "--connect", "127.0.0.1:1"}, farm.dir + "/c.log");
+    EXPECT_NE(no_display.wait(10s).value_or(0), 0);
+    EXPECT_NE(test::read_file(farm.dir + "/c.log").find("--headless"), std::string::npos)
+        << test::read_file(farm.dir + "/c.log");
+}
+
+}  // namespace
+}  // namespace pathfarm
