@@ -35,3 +35,18 @@ def wait_for(path, pattern, who, timeout=60):
                 return m
         time.sleep(0.05)
     raise SystemExit(f"{who}: {pattern} never appeared in {path}")
+
+
+def pfm_floats(path):
+    """The raw float samples of a PFM written by pathfarm (header: three lines)."""
+    data = open(path, "rb").read()
+    header_end = 0
+    for _ in range(3):
+        header_end = data.index(b"\n", header_end) + 1
+    return memoryview(data[header_end:]).cast("f")
+
+
+def rmse(a, b):
+    """Root-mean-square difference of two PFM images of the same size."""
+    x, y = pfm_floats(a), pfm_floats(b)
+    return (sum((p - q) ** 2 for p, q in zip(x, y)) / len(x)) ** 0.5

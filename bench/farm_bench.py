@@ -13,7 +13,7 @@ import statistics
 import subprocess
 import tempfile
 
-from bench_common import ROOT, wait_for, write_csv
+from bench_common import ROOT, rmse, wait_for, write_csv
 from bench_common import run as run_tool
 
 
@@ -55,17 +55,6 @@ def render(build, work, a):
                         "--out", f"{work}/render_{f}.pfm", "--log-level", "error"], "farm_bench", with_stderr=False)
         total += float(re.search(r"seconds=([0-9.]+)", out).group(1))
     return a.frames / total
-
-
-def rmse(a, b):
-    def floats(p):
-        data = open(p, "rb").read()
-        header_end = 0
-        for _ in range(3):
-            header_end = data.index(b"\n", header_end) + 1
-        return memoryview(data[header_end:]).cast("f")
-    x, y = floats(a), floats(b)
-    return (sum((p - q) ** 2 for p, q in zip(x, y)) / len(x)) ** 0.5
 
 
 def main():

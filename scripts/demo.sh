@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build, and run the farm on loopback: a coordinator,
-# two tracers and a headless client on builtin:default. Prints the frame rate and each
-# tracer's utilisation, and writes the frames and a contact sheet to out/.
-# Environment: FRAMES (default 60), WIDTH x HEIGHT (640x360), SPP (4).
+# two tracers and a headless client on builtin:default, in real time: the game runs (moving
+# ball, switching light, the client turning and pressing the action key), frames converge,
+# and workload scaling holds TARGET_FPS. Prints the frame rate, the quality chosen, each
+# tracer's utilisation and the client's input latency, and writes the frames (JPEG) and a
+# contact sheet to out/.
+# Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install_deps.sh"
 "$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF -DPATHFARM_BUILD_BENCH=ON
 bin="$root/build/release"
 out="$root/out"
-frames="${FRAMES:-60}" width="${WIDTH:-640}" height="${HEIGHT:-360}" spp="${SPP:-4}"
+frames="${FRAMES:-100}" width="${WIDTH:-320}" height="${HEIGHT:-180}" spp="${SPP:-4}"
+target="${TARGET_FPS:-10}"
 rm -rf "$out" && mkdir -p "$out/frames"
 export PATHFARM_SECRET="${PATHFARM_SECRET:-$(head -c 32 /dev/urandom | od -An -tx1 | tr -d ' \n')}"
 
@@ -19,12 +23,14 @@ trap cleanup EXIT
 
 "$bin/coordinator/pathfarm-coordinator" --scene builtin:default --tracer-port 0 --client-port 0 \
   --width "$width" --height "$height" --spp "$spp" --frames "$frames" --min-tracers 2 \
+  --target-fps "$target" --fps "$target" \
   --stats-csv "$out/stats.csv" --tracer-stats-csv "$out/tracers.csv" > "$out/coordinator.log" 2>&1 &
 coordinator=$!
 for _ in $(seq 100); do grep -q "tracer_port=" "$out/coordinator.log" && break; sleep 0.1; done
 tracer_port=$(grep -o "tracer_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
 client_port=$(grep -o "client_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
 "$bin/client/pathfarm-client" --connect "127.0.0.1:$client_port" --headless --frames "$frames" \
+  --turn-rate 0.1 --action-every-second --latency-csv "$out/latency.csv" \
   --out "$out/frames" --contact-sheet "$out/contact_sheet.png" > "$out/client.log" 2>&1 &
 client=$!
 for _ in $(seq 100); do grep -q '"headless-client" connected' "$out/coordinator.log" && break; sleep 0.1; done
@@ -37,7 +43,10 @@ wait "$coordinator" || { echo "demo: the coordinator failed:"; tail -5 "$out/coo
 wait "$client" || { echo "demo: the client failed:"; tail -5 "$out/client.log"; exit 1; }
 
 grep "fps=" "$out/coordinator.log" | sed 's/^/coordinator: /'
-grep "fps=" "$out/client.log" | sed 's/^/client:      /'
+grep "fps=\|latency_p50" "$out/client.log" | sed 's/^/client:      /'
+awk -F, 'NR > 1 { spp += $7; w += $9; h += $10; n++ }
+  END { if (n) printf "quality: mean %.2f spp at %.0fx%.0f (workload scaling)\n", spp / n, w / n, h / n }' \
+  "$out/stats.csv"
 seconds=$(grep -o "seconds=[0-9.]*" "$out/coordinator.log" | cut -d= -f2)
 awk -F, -v s="$seconds" 'NR > 1 { ms[$2] += $5; n[$2]++ }
   END { for (t in ms) printf "%s: %d frames, utilisation %.0f%% of %.2f s\n", t, n[t], 100 * ms[t] / 1000 / s, s }' \

@@ -616,6 +616,9 @@ Status Farm::run(const std::atomic<bool>& stop) {
         if (scaler_) {
             std::this_thread::sleep_until(next_start);
             next_start = std::max(Clock::now(), next_start + interval);
+            // Paced: the frame is prepared now, after the wait, with the newest input (the
+            // pipelined preparation below would add a frame interval of input latency).
+            if (f > 0) next = prepare(f);
         }
         Timer stage;
         {
@@ -638,8 +641,8 @@ Status Farm::run(const std::atomic<bool>& stop) {
         const Timer frame_timer;
         PreparedFrame current = std::move(next);
         stage.reset();
-        next = prepare(f + 1);  // pipelined: frame N+1's commit while frame N renders
-        if (o_.converge)        // and the G-buffer for reprojection, while the tracers render
+        if (!scaler_) next = prepare(f + 1);  // pipelined: N+1's commit while N renders
+        if (o_.converge)  // and the G-buffer for reprojection, while the tracers render
             current.view.gbuffer =
                 trace_gbuffer(*current.accel, current.view.camera, o_.width, o_.height);
         const double prepare_ms = stage.milliseconds();
