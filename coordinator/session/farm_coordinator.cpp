@@ -151,6 +151,7 @@ private:
     FrameQuality q_;                        // of frame_
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     Timer run_clock_;                       // since the farm started: stats' wall_ms
+    bool stopping_ = false;                 // holds mutex_: run() is closing the sessions
     AccelUpdater accel_;
     std::shared_ptr<const AccelSnapshot> accel_snapshot_;
     std::mutex mutex_;
@@ -174,6 +175,7 @@ void Farm::on_tracer(std::shared_ptr<net::Session> s) {
     s->on_message = [this, id](std::string&& m) { on_tile(id, m); };
     s->on_closed = [this, id](const std::string&) { on_tracer_closed(id); };
     std::lock_guard lock(mutex_);
+    if (stopping_) return s->close("coordinator finishing");
     TracerState t;
     t.session = s;
     t.name = s->peer().name;
@@ -211,6 +213,7 @@ void Farm::on_client(std::shared_ptr<net::Session> s) {
         clients_.erase(id);
     };
     std::lock_guard lock(mutex_);
+    if (stopping_) return s->close("coordinator finishing");
     clients_[id] = ClientState{s, choose_codec(s->peer().codecs)};
 }
 
@@ -674,6 +677,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
     std::map<uint64_t, ClientState> clients;
     {
         std::lock_guard lock(mutex_);
+        stopping_ = true;  // peers connecting from now on are turned away
         tracers.swap(tracers_);
         clients.swap(clients_);
     }
@@ -681,6 +685,17 @@ Status Farm::run(const std::atomic<bool>& stop) {
         t.session->close("coordinator finished");
     for (auto& [id, c] : clients)
         c.session->close("coordinator finished");
+    // Let the writers flush what is queued (the last frame to clients) before the NetService
+    // and its io_context go away with this scope.
+    const auto flush_deadline = Clock::now() + std::chrono::seconds(2);
+    const auto any_open = [&] {
+        return std::any_of(tracers.begin(), tracers.end(),
+                           [](const auto& kv) { return kv.second.session->open(); }) ||
+               std::any_of(clients.begin(), clients.end(),
+                           [](const auto& kv) { return kv.second.session->open(); });
+    };
+    while (any_open() && Clock::now() < flush_deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
     return {};
 }
 

@@ -62,6 +62,8 @@ TEST(RealtimeFarm, StillViewConvergesAndClientInputIsEchoed) {
     EXPECT_NE(test::read_file(farm.dir + "/coordinator.log").find("action: the crosshair"),
               std::string::npos);
     EXPECT_TRUE(std::ifstream(farm.dir + "/received/frame_000010.jpg").good()) << "JPEG frames";
+    // The last frame too: the coordinator flushes its sends before it exits.
+    EXPECT_TRUE(std::ifstream(farm.dir + "/received/frame_000023.jpg").good());
 }
 
 TEST(RealtimeFarm, WorkloadScalingDropsQualityWhenTheFarmIsTooSlow) {
