@@ -114,6 +114,8 @@ private:
                               a.y0(), a.y1(), a.width(), a.height());
         if (replica_.scene_changed()) {
             scene_ = replica_.take_scene_model();
+            // Camera-relative, as pathfarm-render does (scene_model.h): same floats, same image.
+            recentre_on_camera(scene_, scene_.cameras.empty() ? Camera{} : scene_.cameras[0]);
             if (Status s = backend_.set_scene(scene_); !s) return s;
         }
         RenderJob job;

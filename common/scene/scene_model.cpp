@@ -73,4 +73,15 @@ bool uses_sun_sky(const SceneModel& scene) {
     }
 }
 
+Camera recentre_on_camera(SceneModel& scene, Camera camera) {
+    const glm::dvec3 eye(camera.camera_to_world[3]);
+    const auto shift = [&](Mat4& m) { m[3] = Vec4(Vec3(glm::dvec3(m[3]) - eye), m[3].w); };
+    for (Instance& i : scene.instances)
+        shift(i.transform);
+    for (Camera& c : scene.cameras)
+        shift(c.camera_to_world);
+    shift(camera.camera_to_world);
+    return camera;
+}
+
 }  // namespace pathfarm

@@ -62,6 +62,14 @@ struct SceneModel {
 void flatten_nodes(SceneModel& scene);
 
 Bounds3f world_bounds(const SceneModel& scene);
+
+// Camera-relative rendering: moves the world so that `camera`'s eye is the origin, subtracting
+// in double precision from every instance and camera translation. Far from
+// the world origin, float hit points and ray offsets lose precision (at 1e4 m one float step is
+// 1 mm: light leaks and acne); near the camera, where the pixels are, they keep it. Geometry
+// whose vertices themselves hold large coordinates keeps the precision it was stored with.
+// Returns `camera` moved likewise.
+Camera recentre_on_camera(SceneModel& scene, Camera camera);
 std::size_t triangle_count(const SceneModel& scene);
 bool has_emissive_triangles(const SceneModel& scene);
 // Whether the sun/sky lights this scene (Environment::sky resolved against its emitters).

@@ -653,7 +653,18 @@ Status Farm::run(const std::atomic<bool>& stop) {
         if (!wait_for_frame(stop)) continue;
         const double wait_ms = stage.milliseconds();
         const double frame_ms = frame_timer.milliseconds();
-        if (scaler_) scaler_->observe(frame_ms);
+        if (scaler_) {
+            const bool was_at_floor = scaler_->at_floor();
+            scaler_->observe(frame_ms);
+            if (scaler_->at_floor() && !was_at_floor)
+                spdlog::warn(
+                    "workload scaling: at the quality floor ({} spp, roulette {}, "
+                    "{:.0f}% size) and still slower than {} frames/s",
+                    scaler_->level().spp, scaler_->level().rr_scale,
+                    100.0 * scaler_->level().resolution, target_fps());
+            else if (!scaler_->at_floor() && was_at_floor)
+                spdlog::info("workload scaling: above the quality floor again");
+        }
         stage.reset();
         finish_frame(current, frame_ms);
         if (stages_.is_open())

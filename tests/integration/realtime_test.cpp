@@ -82,6 +82,13 @@ TEST(RealtimeFarm, WorkloadScalingDropsQualityWhenTheFarmIsTooSlow) {
     EXPECT_EQ(num(last, kSpp), 1.0);
     EXPECT_EQ(num(last, kRr), 0.5);
     EXPECT_LT(num(last, kRenderW), 64.0);
+    // Where it reaches the floor and is still too slow, it says so in the stats and the log.
+    for (const auto& r : rows)
+        if (r.at(12) == "1") {
+            EXPECT_NE(test::read_file(farm.dir + "/coordinator.log").find("at the quality floor"),
+                      std::string::npos);
+            break;
+        }
     // Frames still reach the client at the display size: the dump is 64x50 throughout.
     EXPECT_TRUE(std::ifstream(farm.frame(15)).good());
 }

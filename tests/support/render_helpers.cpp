@@ -95,10 +95,12 @@ FloatImage render(const SceneModel& scene, const RenderRequest& r) {
     auto backend = tracer::create_backend(tracer::BackendKind::embree, {r.threads});
     EXPECT_TRUE(backend.ok());
     if (!backend.ok()) return {};
-    EXPECT_TRUE((*backend)->set_scene(scene).ok());
-    Camera camera = scene.cameras.empty()
-                        ? frame_bounds(world_bounds(scene), float(r.width) / float(r.height))
-                        : scene.cameras[0];
+    SceneModel local = scene;  // rendered relative to the camera, as the tools do
+    Camera camera = recentre_on_camera(
+        local, scene.cameras.empty()
+                   ? frame_bounds(world_bounds(scene), float(r.width) / float(r.height))
+                   : scene.cameras[0]);
+    EXPECT_TRUE((*backend)->set_scene(local).ok());
     FloatImage image(r.width, r.height);
     std::vector<int> bounds{0};
     bounds.insert(bounds.end(), r.row_splits.begin(), r.row_splits.end());
