@@ -23,6 +23,15 @@ struct GBuffer {
 
 GBuffer trace_gbuffer(const AccelSnapshot& accel, const Camera& camera, int width, int height);
 
+// The G-buffer of `accel` for the camera `previous` was traced with, re-tracing only the
+// screen rectangles that instances which changed since `previous_accel` (moved, deformed,
+// added or removed) covered before or cover now. Falls back to a full trace where a changed
+// box reaches behind the camera. Equal to a full trace: every other pixel's ray meets the
+// same geometry as before.
+GBuffer update_gbuffer(const GBuffer& previous, const AccelSnapshot& previous_accel,
+                       const AccelSnapshot& accel, const Camera& camera,
+                       std::size_t* traced_pixels = nullptr);
+
 // Maps world points and directions to continuous pixel coordinates (pixel centres at +0.5):
 // the inverse of generate_camera_ray. False when behind the camera.
 class CameraProjector {

@@ -152,6 +152,9 @@ private:
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     Timer run_clock_;                       // since the farm started: stats' wall_ms
     bool stopping_ = false;                 // holds mutex_: run() is closing the sessions
+    std::optional<GBuffer> last_gbuffer_;   // the last frame's, to update instead of re-trace
+    std::shared_ptr<const AccelSnapshot> last_gbuffer_accel_;
+    Camera last_gbuffer_camera_;
     AccelUpdater accel_;
     std::shared_ptr<const AccelSnapshot> accel_snapshot_;
     std::mutex mutex_;
@@ -645,9 +648,20 @@ Status Farm::run(const std::atomic<bool>& stop) {
         PreparedFrame current = std::move(next);
         stage.reset();
         if (!scaler_) next = prepare(f + 1);  // pipelined: N+1's commit while N renders
-        if (o_.converge)  // and the G-buffer for reprojection, while the tracers render
+        if (o_.converge) {  // and the G-buffer for reprojection, while the tracers render
+            // Same camera: re-trace only where instances changed (docs/realtime.md).
+            const bool reuse =
+                last_gbuffer_ &&
+                last_gbuffer_camera_.camera_to_world == current.view.camera.camera_to_world &&
+                last_gbuffer_camera_.yfov_radians == current.view.camera.yfov_radians;
             current.view.gbuffer =
-                trace_gbuffer(*current.accel, current.view.camera, o_.width, o_.height);
+                reuse ? update_gbuffer(*last_gbuffer_, *last_gbuffer_accel_, *current.accel,
+                                       current.view.camera)
+                      : trace_gbuffer(*current.accel, current.view.camera, o_.width, o_.height);
+            last_gbuffer_ = current.view.gbuffer;
+            last_gbuffer_accel_ = current.accel;
+            last_gbuffer_camera_ = current.view.camera;
+        }
         const double prepare_ms = stage.milliseconds();
         stage.reset();
         if (!wait_for_frame(stop)) continue;

@@ -167,6 +167,27 @@ TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
     EXPECT_GT(ball_pixels, 10);
 }
 
+TEST(GBuffer, UpdateRetracesOnlyWhatMovedAndEqualsAFullTrace) {
+    SceneGraph graph(make_default_scene());
+    AccelUpdater accel;
+    const auto before = accel.build(graph.state(), 0);
+    const Camera camera = graph.state().cameras.at(graph.state().active_camera);
+    const int w = 96, h = 54;
+    const GBuffer g0 = trace_gbuffer(*before, camera, w, h);
+    const uint32_t ball = graph.find_nodes("gold-ball").at(0);
+    ASSERT_TRUE(
+        graph.set_node_transform(ball, glm::translate(Mat4(1.0f), Vec3(1.0f, 0.35f, -4.2f))));
+    const auto after = accel.update(graph.state(), graph.take_changes(), 1);
+    std::size_t traced = 0;
+    const GBuffer updated = update_gbuffer(g0, *before, *after, camera, &traced);
+    const GBuffer full = trace_gbuffer(*after, camera, w, h);
+    EXPECT_EQ(updated.instance, full.instance);
+    EXPECT_EQ(updated.distance, full.distance);
+    EXPECT_NE(updated.instance, g0.instance) << "the ball moved on screen";
+    EXPECT_GT(traced, 0u);
+    EXPECT_LT(traced, std::size_t(w) * h / 10) << "only the ball's old and new boxes";
+}
+
 TEST(TemporalAccumulator, ACutStartsEveryPixelOver) {
     const Shot s = shoot(cornell_camera());
     TemporalAccumulator acc;
