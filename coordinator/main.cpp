@@ -158,6 +158,11 @@ int main(int argc, char** argv) {
                    "free-camera, default")
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "free-camera", "default"}));
+    app.add_option("--converged-frames", f.converged_frames,
+                   "Converging: once every pixel has this many frames and nothing changes, render "
+                   "nothing new (0: always render)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--jpeg-quality", f.jpeg_quality, "Quality of JPEG frames to clients")
         ->capture_default_str()
         ->check(CLI::Range(1, 100));

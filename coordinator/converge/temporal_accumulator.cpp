@@ -1,6 +1,8 @@
 // Reprojection, validation, clamp and blend, one pixel at a time (TBB over rows).
 #include "coordinator/converge/temporal_accumulator.h"
 
+#include <algorithm>
+
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
@@ -32,6 +34,10 @@ void neighbourhood(const FloatImage& image, int x, int y, Rgb& mean, Rgb& sigma)
 }
 
 }  // namespace
+
+float TemporalAccumulator::min_history_frames() const {
+    return frames_.empty() ? 0.0f : *std::min_element(frames_.begin(), frames_.end());
+}
 
 void TemporalAccumulator::reset() {
     previous_.reset();

@@ -47,6 +47,8 @@ public:
     void reset();  // a cut: the next frame starts from its own samples only
     // Frames of history per pixel (1: this frame's samples alone).
     const std::vector<float>& history_frames() const { return frames_; }
+    float min_history_frames() const;                      // 0 before the first frame
+    const FloatImage& output() const { return history_; }  // the last blended image
 
 private:
     ConvergeOptions o_;

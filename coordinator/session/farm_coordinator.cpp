@@ -87,6 +87,7 @@ struct PreparedFrame {
     std::shared_ptr<const AccelSnapshot> accel;
     FrameView view;                    // camera, instances, deformed, cut (G-buffer added later)
     uint64_t last_input_sequence = 0;  // the newest input applied in this frame
+    bool unchanged = false;            // nothing in the scene changed since the last frame
 };
 
 // Frame size and quality of the frame being rendered (workload scaling changes them).
@@ -135,11 +136,13 @@ private:
     int delivered_rows(uint64_t id) const;  // holds mutex_: rows of this frame it rendered
     // --- frame loop (callers hold mutex_ where noted)
     PreparedFrame prepare(uint64_t frame);
-    void sync_and_assign(const PreparedFrame& p);                       // holds mutex_
+    void sync_and_assign(const PreparedFrame& p, bool assign_rows);     // holds mutex_
     void reissue(const std::vector<RowRange>& ranges, bool idle_only);  // holds mutex_
     bool wait_for_frame(const std::atomic<bool>& stop);                 // false: abandoned
     void assign(uint64_t id, TracerState& t, const RowRange& r);        // holds mutex_
-    void finish_frame(PreparedFrame& p, double frame_ms);
+    void finish_frame(PreparedFrame& p, double frame_ms, bool rendered);
+    void account_tracers(double& t_max, double& idle, int& n);  // holds mutex_
+    void send_to_clients(const FloatImage& image, const PreparedFrame& p);
     FrameQuality next_quality() const;
 
     FarmOptions o_;
@@ -362,6 +365,7 @@ PreparedFrame Farm::prepare(uint64_t frame) {
     queries_.publish(accel_snapshot_);
     PreparedFrame p;
     p.frame = frame;
+    p.unchanged = frame > 0 && changes.empty();
     p.accel = accel_snapshot_;
     p.last_input_sequence = last_applied_input_;
     const SceneState& state = graph_.state();
@@ -403,7 +407,7 @@ void Farm::assign(uint64_t id, TracerState& t, const RowRange& r) {
     spdlog::debug("frame {}: rows [{}, {}) to tracer {} \"{}\"", frame_, r.y0, r.y1, id, t.name);
 }
 
-void Farm::sync_and_assign(const PreparedFrame& p) {
+void Farm::sync_and_assign(const PreparedFrame& p, bool assign_rows) {
     std::optional<std::vector<std::string>> snapshot, snapshot_bvh;  // made once, if needed
     std::vector<uint64_t> synced;
     for (auto& [id, t] : tracers_) {
@@ -427,6 +431,7 @@ void Farm::sync_and_assign(const PreparedFrame& p) {
         t.render_ms = 0.0;
         synced.push_back(id);
     }
+    if (!assign_rows) return;  // replicas follow the (empty) commit; nothing to render
     // A new render size makes last frame's rows and unit costs meaningless: start even.
     const bool resized = last_unit_cost_.size() != unit_rays_.size();
     BalanceInput in{q_.height, {}, resized ? std::vector<double>{} : last_unit_cost_};
@@ -489,11 +494,42 @@ bool Farm::wait_for_frame(const std::atomic<bool>& stop) {
     return assembler_->complete();
 }
 
-void Farm::finish_frame(PreparedFrame& p, double frame_ms) {
+void Farm::finish_frame(PreparedFrame& p, double frame_ms, bool rendered) {
     std::unique_lock lock(mutex_);
-    FloatImage image = assembler_->image();
+    // A frame that rendered nothing (converged, unchanged) shows the converged image again.
+    FloatImage image = rendered ? assembler_->image() : accumulator_.output();
     double t_max = 0.0, idle = 0.0;
     int n = 0;
+    if (rendered) account_tracers(t_max, idle, n);
+    const double idle_pct = n > 0 && t_max > 0.0 ? 100.0 * idle / (n * t_max) : 0.0;
+    const std::size_t tracer_count = tracers_.size();
+    const std::size_t tile_bytes = tile_bytes_;
+    lock.unlock();
+    // Display: upscale what workload scaling rendered smaller, then converge.
+    const Timer display_timer;
+    if (image.width != o_.width || image.height != o_.height)
+        image = resize_bilinear(image, o_.width, o_.height);
+    ConvergeStats converged{0.0, 1.0, 0.0};
+    if (o_.converge && rendered) converged = accumulator_.blend(image, std::move(p.view));
+    const double display_ms = display_timer.milliseconds();
+    const bool at_floor = scaler_ && scaler_->at_floor();
+    if (stats_.is_open())
+        stats_ << frame_ << ',' << tracer_count << ',' << frame_ms << ',' << idle_pct << ','
+               << p.plain_bytes << ',' << tile_bytes << ',' << (rendered ? q_.spp : 0) << ','
+               << q_.rr_scale << ',' << q_.width << ',' << q_.height << ',' << converged.mean_f
+               << ',' << converged.kept << ',' << int(at_floor) << ',' << display_ms << ','
+               << run_clock_.milliseconds() << '\n';
+    stats_.flush();  // live monitoring and tests read these while the farm runs
+    tracer_stats_.flush();
+    send_to_clients(image, p);
+    if (!o_.dump_frames.empty()) {
+        const std::string path = fmt::format("{}/frame_{:06d}.pfm", o_.dump_frames, frame_);
+        if (Status s = write_image(path, image); !s) spdlog::error("{}", s.error().message);
+    }
+}
+
+// Per-tracer statistics and the cost model's inputs for the next frame. Holds mutex_.
+void Farm::account_tracers(double& t_max, double& idle, int& n) {
     for (const auto& [id, t] : tracers_)
         if (t.replica_commit == frame_ && t.render_ms > 0.0) t_max = std::max(t_max, t.render_ms);
     for (const auto& [id, t] : tracers_) {
@@ -505,7 +541,6 @@ void Farm::finish_frame(PreparedFrame& p, double frame_ms) {
                           << t.first_assignment.rows() << ',' << t.render_ms << ','
                           << delivered_rows(id) << '\n';
     }
-    const double idle_pct = n > 0 && t_max > 0.0 ? 100.0 * idle / (n * t_max) : 0.0;
     last_unit_cost_ = unit_cost_map();
     for (auto& [id, t] : tracers_)
         if (t.replica_commit == frame_ && t.render_ms > 0.0) {
@@ -516,26 +551,11 @@ void Farm::finish_frame(PreparedFrame& p, double frame_ms) {
     if (costs_.is_open())
         for (std::size_t u = 0; u < unit_us_.size(); ++u)
             costs_ << frame_ << ',' << u << ',' << unit_us_[u] << '\n';
-    const std::size_t tracer_count = tracers_.size();
-    const std::size_t tile_bytes = tile_bytes_;
-    lock.unlock();
-    // Display: upscale what workload scaling rendered smaller, then converge.
-    const Timer display_timer;
-    if (image.width != o_.width || image.height != o_.height)
-        image = resize_bilinear(image, o_.width, o_.height);
-    ConvergeStats converged;
-    if (o_.converge) converged = accumulator_.blend(image, std::move(p.view));
-    const double display_ms = display_timer.milliseconds();
-    const bool at_floor = scaler_ && scaler_->at_floor();
-    if (stats_.is_open())
-        stats_ << frame_ << ',' << tracer_count << ',' << frame_ms << ',' << idle_pct << ','
-               << p.plain_bytes << ',' << tile_bytes << ',' << q_.spp << ',' << q_.rr_scale << ','
-               << q_.width << ',' << q_.height << ',' << converged.mean_f << ',' << converged.kept
-               << ',' << int(at_floor) << ',' << display_ms << ',' << run_clock_.milliseconds()
-               << '\n';
-    stats_.flush();  // live monitoring and tests read these while the farm runs
-    tracer_stats_.flush();
-    lock.lock();
+}
+
+// Encodes `image` once per codec and sends it to every client.
+void Farm::send_to_clients(const FloatImage& image, const PreparedFrame& p) {
+    std::unique_lock lock(mutex_);
     std::map<FrameCodec, std::string> encoded;
     std::vector<std::pair<std::shared_ptr<net::Session>, FrameCodec>> targets;
     for (auto& [id, c] : clients_)
@@ -561,10 +581,6 @@ void Farm::finish_frame(PreparedFrame& p, double frame_ms) {
             encoded[codec] = e.SerializeAsString();
         }
         session->send(encoded[codec]);
-    }
-    if (!o_.dump_frames.empty()) {
-        const std::string path = fmt::format("{}/frame_{:06d}.pfm", o_.dump_frames, frame_);
-        if (Status s = write_image(path, image); !s) spdlog::error("{}", s.error().message);
     }
 }
 
@@ -626,6 +642,9 @@ Status Farm::run(const std::atomic<bool>& stop) {
             // pipelined preparation below would add a frame interval of input latency).
             if (f > 0) next = prepare(f);
         }
+        // A still, unchanged view whose every pixel has converged renders nothing new.
+        const bool skip = o_.converge && o_.converged_frames > 0 && next.unchanged &&
+                          accumulator_.min_history_frames() >= float(o_.converged_frames);
         Timer stage;
         {
             std::unique_lock lock(mutex_);
@@ -641,13 +660,18 @@ Status Farm::run(const std::atomic<bool>& stop) {
             unit_us_.assign(unit_rays_.size(), 0.0);
             unit_owner_.assign(unit_rays_.size(), 0);
             stage.reset();
-            sync_and_assign(next);
+            sync_and_assign(next, !skip);
         }
         const double send_ms = stage.milliseconds();
         const Timer frame_timer;
         PreparedFrame current = std::move(next);
         stage.reset();
         if (!scaler_) next = prepare(f + 1);  // pipelined: N+1's commit while N renders
+        if (skip) {
+            finish_frame(current, 0.0, false);
+            ++completed;
+            continue;
+        }
         if (o_.converge) {  // and the G-buffer for reprojection, while the tracers render
             // Same camera: re-trace only where instances changed (docs/realtime.md).
             const bool reuse =
@@ -680,7 +704,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
                 spdlog::info("workload scaling: above the quality floor again");
         }
         stage.reset();
-        finish_frame(current, frame_ms);
+        finish_frame(current, frame_ms, true);
         if (stages_.is_open())
             stages_ << f << ',' << send_ms << ',' << prepare_ms << ',' << wait_ms << ','
                     << stage.milliseconds() << '\n';

@@ -39,6 +39,9 @@ struct FarmOptions {
     float min_rr_scale = 0.5f, min_resolution = 0.5f;  // workload scaling's quality floor
     std::string game = "auto";                         // coordinator/game/game.h
     int jpeg_quality = 90;
+    // With converging: once every pixel holds this many frames of history and nothing changes,
+    // frames render nothing new (the converged image is sent again). 0: always render.
+    int converged_frames = 256;
 };
 
 Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop);

@@ -66,6 +66,29 @@ TEST(RealtimeFarm, StillViewConvergesAndClientInputIsEchoed) {
     EXPECT_TRUE(std::ifstream(farm.dir + "/received/frame_000023.jpg").good());
 }
 
+TEST(RealtimeFarm, AConvergedUnchangedViewRendersNothingNew) {
+    Farm farm;
+    farm.mode = {"--game", "free-camera", "--target-fps", "30", "--converged-frames", "6"};
+    farm.spp = 1;
+    farm.start({"--frames", "14"});
+    farm.add_tracer("t", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    const auto rows = farm.csv("stats.csv");
+    ASSERT_EQ(rows.size(), 14u);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        // Frames 0..5 render (history 1..6); from frame 6 on every pixel has 6 frames.
+        const bool rendered = k < 6;
+        EXPECT_EQ(num(rows[k], kSpp), rendered ? 1.0 : 0.0) << "frame " << k;
+        if (!rendered) {
+            EXPECT_EQ(num(rows[k], 5), 0.0) << "no tile bytes in frame " << k;
+            EXPECT_LE(num(rows[k], kCommitBytes), 8.0) << "an empty commit in frame " << k;
+        }
+    }
+    // What the client sees stays the converged image.
+    EXPECT_TRUE(test::images_identical(farm.frame(6), farm.frame(13)));
+    EXPECT_FALSE(test::images_identical(farm.frame(4), farm.frame(5)));
+}
+
 TEST(RealtimeFarm, WorkloadScalingDropsQualityWhenTheFarmIsTooSlow) {
     Farm farm;
     farm.mode = {"--target-fps", "10"};

@@ -14,6 +14,10 @@ SceneModel make_cornell_box();
 // The demo room: instanced objects, procedural floor, mirror, absorbing glass, several lights
 // of different sizes and a sunlit window.
 SceneModel make_default_scene();
+// Benchmark scenes: specular chains (glass, absorbing glass, mirror, polished metal), and a room
+// lit by 1024 small emissive quads (bench/time_vs_error.py).
+SceneModel make_glass_scene();
+SceneModel make_many_lights_scene();
 // The default scene's door node transform, swung open by `open_radians` about its hinge.
 Mat4 default_scene_door_transform(float open_radians);
 

@@ -146,13 +146,19 @@ SceneModel make_default_scene() {
     return b.finish();
 }
 
-std::vector<std::string> builtin_scene_names() { return {"cornell", "default"}; }
+std::vector<std::string> builtin_scene_names() {
+    return {"cornell", "default", "glass", "many-lights"};
+}
 
 Result<SceneModel> make_builtin_scene(const std::string& name) {
     if (name == "cornell") return make_cornell_box();
     if (name == "default") return make_default_scene();
+    if (name == "glass") return make_glass_scene();
+    if (name == "many-lights") return make_many_lights_scene();
     return make_error(ErrorCode::not_found,
-                      "builtin:{}: no such built-in scene (known: cornell, default)", name);
+                      "builtin:{}: no such built-in scene (known: cornell, default, glass, "
+                      "many-lights)",
+                      name);
 }
 
 }  // namespace pathfarm

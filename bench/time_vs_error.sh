@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Builds the release tree and runs bench/time_vs_error.py (about 40 minutes on 2 cores; --quick
+# in under a minute).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+"$root/scripts/install_deps.sh"
+"$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF -DPATHFARM_BUILD_BENCH=ON
+exec python3 "$root/bench/time_vs_error.py" "$@"
