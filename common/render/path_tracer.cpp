@@ -35,9 +35,25 @@ bool consistent_side(const Vec3& w_world, const Vec3& w_local, const Vec3& ng) {
 
 }  // namespace
 
+uint32_t scene_features(const ShadingScene& shading, const LightSampler& lights) {
+    uint32_t f = lights.has_environment() ? kFeatureEnvironment : 0u;
+    for (const Material& m : shading.model().materials) {
+        if (m.is_emissive()) f |= kFeatureEmitters;
+        if (m.transmission_factor > 0.0f) f |= kFeatureTransmission;
+    }
+    return f;
+}
+
 PathTracer::PathTracer(const ShadingScene& shading, const LightSampler& lights,
                        const Intersector& kernel, const IntegratorSettings& settings)
-    : shading_(shading), lights_(lights), kernel_(kernel), settings_(settings) {}
+    : shading_(shading), lights_(lights), kernel_(kernel), settings_(settings) {
+    static constexpr TraceFn kLoops[8] = {&PathTracer::trace_with<0>, &PathTracer::trace_with<1>,
+                                          &PathTracer::trace_with<2>, &PathTracer::trace_with<3>,
+                                          &PathTracer::trace_with<4>, &PathTracer::trace_with<5>,
+                                          &PathTracer::trace_with<6>, &PathTracer::trace_with<7>};
+    features_ = settings.specialise ? scene_features(shading, lights) : kAllFeatures;
+    trace_ = kLoops[features_];
+}
 
 float PathTracer::light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp,
                                         const Vec3& origin) const {
@@ -96,7 +112,11 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
     return f * ls->radiance * (weight / pdf_light);
 }
 
-Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+template <uint32_t kFeatures>
+Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+    constexpr bool kEmitters = kFeatures & kFeatureEmitters;
+    constexpr bool kEnvironment = kFeatures & kFeatureEnvironment;
+    constexpr bool kTransmission = kFeatures & kFeatureTransmission;
     Rgb radiance(0.0f);
     Rgb beta(1.0f);
     Rgb sigma_a(0.0f);         // absorption of the medium the ray travels in
@@ -111,7 +131,7 @@ Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) 
         const bool found = kernel_.intersect(ray, hit);
         const bool count_emission = delta_bounce || settings_.strategy != LightStrategy::light_only;
         if (!found) {
-            if (lights_.has_environment() && count_emission) {
+            if (kEnvironment && lights_.has_environment() && count_emission) {
                 const Rgb le = lights_.environment_radiance(ray.d);
                 const float w = delta_bounce || settings_.strategy == LightStrategy::bsdf_only
                                     ? 1.0f
@@ -120,11 +140,11 @@ Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) 
             }
             break;
         }
-        if (max_component(sigma_a) > 0.0f) beta *= glm::exp(-sigma_a * hit.t);
+        if (kTransmission && max_component(sigma_a) > 0.0f) beta *= glm::exp(-sigma_a * hit.t);
 
         SurfacePoint sp = shading_.surface(hit);
         const Vec3 wo = -ray.d;
-        if (count_emission) {
+        if (kEmitters && count_emission) {
             const Rgb le = shading_.emitted(sp, wo);
             if (max_component(le) > 0.0f) {
                 const float w =
@@ -153,7 +173,8 @@ Rgb PathTracer::trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) 
         delta_bounce = bs.delta;
         bsdf_pdf = bs.pdf;
 
-        if (bsdf.transmissive() && glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
+        if (kTransmission && bsdf.transmissive() &&
+            glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
             sigma_a = glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material)
                                                  : Rgb(0.0f);
 

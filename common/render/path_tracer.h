@@ -24,6 +24,18 @@ struct IntegratorSettings {
     // Scales the survival probability (<= 1: shorter paths, more noise, still unbiased): the
     // coordinator's workload scaling lowers it when spp is already at its floor.
     float rr_scale = 1.0f;
+    // Use the path-tracing loop specialised for the scene's features (feature_mask below);
+    // false: the generic loop that handles every feature. Both give the same image bit for bit.
+    bool specialise = true;
+};
+
+// What a scene needs of the path-tracing loop. A loop instantiated without a feature leaves
+// out its work per bounce (docs/performance.md: the measured benefit).
+enum SceneFeature : uint32_t {
+    kFeatureEmitters = 1,      // emissive materials: emission at hits, MIS against NEE
+    kFeatureEnvironment = 2,   // sun/sky: radiance and MIS for escaping rays
+    kFeatureTransmission = 4,  // transmissive materials: Beer absorption inside them
+    kAllFeatures = 7,
 };
 
 struct SampleCounters {
@@ -43,9 +55,16 @@ public:
                const IntegratorSettings& settings);
 
     // Radiance along a camera ray. A non-finite estimate is counted and returned as zero.
-    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
+    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+        return (this->*trace_)(ray, sampler, counters);
+    }
+    uint32_t features() const { return features_; }  // of the loop in use
 
 private:
+    using TraceFn = Rgb (PathTracer::*)(Ray, PixelSampler&, SampleCounters&) const;
+    template <uint32_t kFeatures>
+    Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
+
     Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
                       const Vec3& shading_ng, const Vec3& wo_local, PixelSampler& sampler,
                       SampleCounters& counters) const;
@@ -55,6 +74,11 @@ private:
     const LightSampler& lights_;
     const Intersector& kernel_;
     IntegratorSettings settings_;
+    uint32_t features_ = kAllFeatures;
+    TraceFn trace_ = nullptr;
 };
+
+// The features `shading`'s scene and `lights` need.
+uint32_t scene_features(const ShadingScene& shading, const LightSampler& lights);
 
 }  // namespace pathfarm

@@ -99,8 +99,14 @@ struct FrameQuality {
 class Farm {
 public:
     Farm(SceneModel scene, const FarmOptions& o)
-        : o_(o), scene_name_(scene.name), graph_(std::move(scene)) {
+        : o_(o),
+          scene_name_(scene.name),
+          default_camera_(default_camera(scene, o)),
+          graph_(std::move(scene)) {
         if (o.clip) graph_.set_playing_clip(*o.clip);
+        // A scene without a camera is framed from its bounds (DESIGN.md), as pathfarm-render
+        // frames it, and the replicas get that camera like any other.
+        if (graph_.state().cameras.empty()) graph_.set_camera(std::nullopt, default_camera_, true);
         RenderSettings s = graph_.state().settings;
         s.width = o.width;
         s.height = o.height;
@@ -145,8 +151,13 @@ private:
     void send_to_clients(const FloatImage& image, const PreparedFrame& p);
     FrameQuality next_quality() const;
 
+    static Camera default_camera(const SceneModel& scene, const FarmOptions& o) {
+        return frame_bounds(world_bounds(scene), float(o.width) / float(o.height));
+    }
+
     FarmOptions o_;
     std::string scene_name_;
+    Camera default_camera_;
     SceneGraph graph_;
     std::unique_ptr<Game> game_;
     RayQueryService queries_;

@@ -50,6 +50,25 @@ TEST_P(FarmDeterminism, FramesEqualPathfarmRenderBitForBit) {
 
 INSTANTIATE_TEST_SUITE_P(Tracers, FarmDeterminism, ::testing::Values(1, 2, 3));
 
+// A file without a camera is framed from its bounds by the coordinator exactly as
+// pathfarm-render frames it (the farm used to render it from the origin).
+TEST(FarmFraming, SceneWithoutACameraIsFramedLikePathfarmRender) {
+    Farm farm;
+    farm.scene = farm.dir + "/no_camera.obj";
+    std::ofstream(farm.dir + "/no_camera.mtl") << "newmtl white\nKd 0.7 0.7 0.7\n"
+                                               << "newmtl lamp\nKd 0 0 0\nKe 8 8 8\n";
+    std::ofstream(farm.scene) << "mtllib no_camera.mtl\n"
+                                 "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"  // floor
+                                 "v -0.5 0 -0.5\nv 0.5 0 -0.5\nv 0 1.2 0\n"  // a tent
+                                 "v -0.4 2 -0.4\nv 0.4 2 -0.4\nv 0.4 2 0.4\nv -0.4 2 0.4\n"
+                                 "usemtl white\nf 1 3 2\nf 1 4 3\nf 5 6 7\n"
+                                 "usemtl lamp\nf 8 9 10\nf 8 10 11\n";
+    farm.start({"--frames", "1"});
+    farm.add_tracer("t", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    EXPECT_TRUE(test::images_identical(farm.frame(0), farm.reference(0)));
+}
+
 TEST(FarmFaults, KilledTracersRowsAreReassignedAndTheFrameCompletes) {
     Farm farm;
     // No stealing: the doomed tracer must still own unrendered rows when it dies.

@@ -4,6 +4,7 @@
 // samples per pixel accumulate without drift, and seeded random scenes render finite images
 // whose energy is bounded by their emitters and albedos.
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -166,10 +167,18 @@ TEST(LongAccumulation, HundredThousandSamplesMatchTheFurnaceValue) {
         EXPECT_NEAR(v, 1.0, 4e-3);
 }
 
+// A few dozen cases here; bench/stress.sh runs 1000+ under ASan/UBSan
+// (PATHFARM_STRESS_CASES).
+int fuzz_cases() {
+    const char* n = std::getenv("PATHFARM_STRESS_CASES");
+    return n ? std::max(1, std::atoi(n)) : 24;
+}
+
 TEST(Fuzz, RandomScenesRenderFiniteBoundedImages) {
     std::mt19937 rng(20261122);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    for (int c = 0; c < 24; ++c) {
+    const int cases = fuzz_cases();
+    for (int c = 0; c < cases; ++c) {
         SceneBuilder b("fuzz-" + std::to_string(c));
         float max_emission = 0.0f, max_albedo = 0.0f;
         std::vector<int> mats;

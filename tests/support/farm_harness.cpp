@@ -27,7 +27,7 @@ Farm::Farm() : dir(scratch_dir()) { setenv("PATHFARM_SECRET", "farm-test-secret"
 void Farm::start(std::vector<std::string> extra, int port) {
     std::vector<std::string> args{kCoordinator,
                                   "--scene",
-                                  "builtin:default",
+                                  scene,
                                   "--tracer-port",
                                   std::to_string(port),
                                   "--client-port",
@@ -77,7 +77,7 @@ int Farm::finish(std::chrono::milliseconds timeout) {
 std::string Farm::reference(int frame) {
     const std::string out = dir + "/reference_" + std::to_string(frame) + ".pfm";
     Process render(
-        {kRender, "--scene", "builtin:default", "--width", "64", "--height", "50", "--spp", "2",
+        {kRender, "--scene", scene, "--width", "64", "--height", "50", "--spp", std::to_string(spp),
          "--frame", std::to_string(frame), "--out", out, "--log-level", "error"},
         dir + "/render.log");
     EXPECT_EQ(render.wait(30s), std::optional<int>(0)) << read_file(dir + "/render.log");

@@ -22,6 +22,7 @@ struct Farm {
     // pacing, workload scaling, converging or game logic); real-time tests clear it.
     std::vector<std::string> mode = {"--fixed-spp", "--no-converge", "--game", "free-camera"};
     int spp = 2;
+    std::string scene = "builtin:default";
 
     Farm();
     // Starts a 64x50 coordinator (`spp` samples per pixel) on builtin:default with `extra`

@@ -57,6 +57,11 @@ int main(int argc, char** argv) {
                    "Direct light: mis, light (light sampling only) or bsdf (BSDF sampling only)")
         ->capture_default_str()
         ->check(CLI::IsMember({"mis", "light", "bsdf"}));
+    std::string kernel = "specialised";
+    app.add_option("--kernel", kernel,
+                   "Path-tracing loop: specialised (for the scene's features) or generic")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"specialised", "generic"}));
     double time = 0.0;
     auto* time_option =
         app.add_option("--time", time, "Animated scenes: time of the clip's own timeline, seconds");
@@ -72,6 +77,7 @@ int main(int argc, char** argv) {
         {"light", pathfarm::LightStrategy::light_only},
         {"bsdf", pathfarm::LightStrategy::bsdf_only}};
     o.strategy = strategies.at(strategy);
+    o.specialise = kernel == "specialised";
     if (time_option->count() > 0) o.time = time;
     if (!look_from.empty()) o.look_from = to_vec3(look_from);
     if (!look_at.empty()) o.look_at = to_vec3(look_at);

@@ -103,6 +103,7 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     job.frame = FrameSpec{o.width, o.height, o.frame, o.seed, 0, 0, *camera};
     job.integrator.max_depth = o.max_depth;
     job.integrator.strategy = o.strategy;
+    job.integrator.specialise = o.specialise;
     job.y0 = 0;
     job.y1 = o.height;
     FloatImage image(o.width, o.height), pass(o.width, o.height);

@@ -30,6 +30,7 @@ struct RenderToolOptions {
     int threads = 0;
     int max_depth = 8;
     LightStrategy strategy = LightStrategy::mis;
+    bool specialise = true;  // the path-tracing loop specialised for the scene's features
     float exposure = 1.0f;
 };
 
