@@ -13,6 +13,7 @@ log-log plot per scene (time_vs_error_<scene>.png).
 relative MSE does not fall at least 4x from 1 to 16 spp.
 """
 import argparse
+import csv
 import math
 import os
 import re
@@ -64,13 +65,14 @@ def errors(image, ref):
 
 
 def farm_point(a, scene, spp, ref, work):
-    """One frame of a 2-tracer farm: (seconds of the frame, rmse, rel_mse)."""
+    """The third frame of a 2-tracer farm (the first includes the tracers' scene build):
+    (seconds of the frame, rmse, rel_mse)."""
     os.environ["PATHFARM_SECRET"] = "time-vs-error"
     log, stats, dump = (os.path.join(work, n) for n in ("farm.log", "farm_stats.csv", "farm_dump"))
     build = os.path.dirname(os.path.dirname(a.render))
     coordinator = subprocess.Popen(
         [f"{build}/coordinator/pathfarm-coordinator", "--scene", scene, "--tracer-port", "0", "--width",
-         str(a.width), "--height", str(a.height), "--spp", str(spp), "--frames", "1", "--min-tracers", "2",
+         str(a.width), "--height", str(a.height), "--spp", str(spp), "--frames", "3", "--min-tracers", "2",
          "--fixed-spp", "--no-converge", "--game", "free-camera", "--stats-csv", stats, "--dump-frames", dump],
         stdout=open(log, "w"), stderr=subprocess.STDOUT)
     port = wait_for(log, r"tracer_port=(\d+)", "time_vs_error").group(1)
@@ -80,8 +82,8 @@ def farm_point(a, scene, spp, ref, work):
     coordinator.wait(timeout=1800)
     for t in tracers:
         t.kill()
-    frame_ms = float(open(stats).read().splitlines()[1].split(",")[2])
-    rmse, rel = errors(os.path.join(dump, "frame_000000.pfm"), ref)
+    frame_ms = float(open(stats).read().splitlines()[3].split(",")[2])
+    rmse, rel = errors(os.path.join(dump, "frame_000002.pfm"), ref)
     return frame_ms / 1000.0, rmse, rel
 
 
@@ -96,6 +98,46 @@ def crossing(series, target):
     return None
 
 
+def plot(a, scenes, rows):
+    """One log-log plot of relative MSE against seconds per scene, every variant."""
+    csv_path = os.path.join(a.out, "time_vs_error_scenes.csv")
+    for name, _ in scenes:
+        variants = " ".join(dict.fromkeys(r[1] for r in rows if r[0] == name))
+        subprocess.run(["gnuplot"], input=f"""
+set datafile separator ','
+set terminal pngcairo size 800,560
+set output '{a.out}/time_vs_error_{name}.png'
+set title '{name} {a.width}x{a.height}: relative MSE against a {a.ref_spp}-spp reference'
+set logscale xy
+set xlabel 'render seconds'
+set ylabel 'relative MSE'
+set grid
+set key bottom left
+plot for [v in "{variants}"] \\
+     '< grep "^{name},'.v.'," {csv_path}' using 4:6 with linespoints title v, \\
+     1e-2 with lines dt 2 lc rgb 'gray' title 'relMSE 1e-2', 1e-3 with lines dt 3 lc rgb 'gray' title 'relMSE 1e-3'
+""", text=True, check=True)
+
+
+def farm_only(a, scenes, work):
+    path = os.path.join(a.out, "time_vs_error_scenes.csv")
+    with open(path) as f:
+        rows = [r for r in csv.reader(f)]
+    header, rows = rows[0], [r for r in rows[1:] if r[1] != "farm-2x1"]
+    for name, spec in scenes:
+        if name not in FARM_SCENES:
+            continue
+        ref = reference(a, name, spec.format(scenes=SCENES))
+        for spp in (4, 16):
+            seconds, rmse, rel = farm_point(a, spec.format(scenes=SCENES), spp, ref, work)
+            rows.append([name, "farm-2x1", spp, seconds, rmse, rel, 1.0 / (rel * seconds)])
+            print(",".join(map(str, rows[-1])), flush=True)
+    order = [n for n, _ in FULL_SCENES]
+    rows.sort(key=lambda r: order.index(r[0]) if r[0] in order else len(order))
+    write_csv(path, header, rows)
+    plot(a, [s for s in scenes if s[0] in FARM_SCENES], rows)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--render", default=os.path.join(ROOT, "build", "release", "tools", "pathfarm-render"))
@@ -103,6 +145,8 @@ def main():
     p.add_argument("--cache", default=os.path.join(ROOT, "bench", "cache"))
     p.add_argument("--quick", action="store_true")
     p.add_argument("--scenes", default="", help="comma-separated subset of the scene names")
+    p.add_argument("--farm-only", action="store_true",
+                   help="recompute only the farm rows of an existing time_vs_error_scenes.csv")
     a = p.parse_args()
     a.width, a.height = (96, 54) if a.quick else (320, 180)
     a.ref_spp = 256 if a.quick else 2048
@@ -112,6 +156,8 @@ def main():
         scenes = [s for s in scenes if s[0] in a.scenes.split(",")]
     os.makedirs(a.out, exist_ok=True)
     work = tempfile.mkdtemp(prefix="time_vs_error_")
+    if a.farm_only:
+        return farm_only(a, scenes, work)
     rows, reached, failures = [], [], []
     for name, spec in scenes:
         scene = spec.format(scenes=SCENES)
@@ -148,23 +194,7 @@ def main():
     print("scene,target_rel_mse,seconds")
     for r in reached:
         print(",".join(map(str, r)))
-    csv_path = os.path.join(a.out, "time_vs_error_scenes.csv")
-    for name, _ in scenes:
-        variants = " ".join(dict.fromkeys(r[1] for r in rows if r[0] == name))
-        subprocess.run(["gnuplot"], input=f"""
-set datafile separator ','
-set terminal pngcairo size 800,560
-set output '{a.out}/time_vs_error_{name}.png'
-set title '{name} {a.width}x{a.height}: relative MSE against a {a.ref_spp}-spp reference'
-set logscale xy
-set xlabel 'render seconds'
-set ylabel 'relative MSE'
-set grid
-set key bottom left
-plot for [v in "{variants}"] \\
-     '< grep "^{name},'.v.'," {csv_path}' using 4:6 with linespoints title v, \\
-     1e-2 with lines dt 2 lc rgb 'gray' title 'relMSE 1e-2', 1e-3 with lines dt 3 lc rgb 'gray' title 'relMSE 1e-3'
-""", text=True, check=True)
+    plot(a, scenes, rows)
     if failures:
         sys.exit("time_vs_error: error does not fall with samples: " + "; ".join(failures))
 
