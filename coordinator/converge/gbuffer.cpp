@@ -26,15 +26,19 @@ void trace_pixel(const AccelSnapshot& accel, const Camera& camera, GBuffer& g, i
     g.position[i] = hit ? hit->point : Vec3(0.0f);
 }
 
+// Corner c (0..7) of box b: bit 0 picks x, bit 1 y, bit 2 z.
+Vec3 box_corner(const Bounds3f& b, int c) {
+    return {c & 1 ? b.upper.x : b.lower.x, c & 2 ? b.upper.y : b.lower.y,
+            c & 4 ? b.upper.z : b.lower.z};
+}
+
 // World box of an instance: its mesh's BVH root box through its transform.
 Bounds3f world_box(const AccelSnapshot& accel, const InstanceAccel& inst) {
     Bounds3f out;
     const Bounds3f b = accel.meshes.at(inst.mesh)->bvh.bounds();
     if (b.empty()) return out;
     for (int c = 0; c < 8; ++c)
-        out.extend(transform_point(
-            inst.to_world, Vec3(c & 1 ? b.upper.x : b.lower.x, c & 2 ? b.upper.y : b.lower.y,
-                                c & 4 ? b.upper.z : b.lower.z)));
+        out.extend(transform_point(inst.to_world, box_corner(b, c)));
     return out;
 }
 
@@ -84,9 +88,7 @@ GBuffer update_gbuffer(const GBuffer& previous, const AccelSnapshot& previous_ac
         float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
         for (int c = 0; c < 8; ++c) {
             float px, py;
-            const Vec3 corner(c & 1 ? b.upper.x : b.lower.x, c & 2 ? b.upper.y : b.lower.y,
-                              c & 4 ? b.upper.z : b.lower.z);
-            if (!project.point(corner, px, py)) {
+            if (!project.point(box_corner(b, c), px, py)) {
                 if (traced_pixels) *traced_pixels = std::size_t(w) * h;
                 return trace_gbuffer(accel, camera, w, h);  // the box reaches behind the eye
             }
