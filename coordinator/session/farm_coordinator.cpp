@@ -217,10 +217,16 @@ void Farm::on_client(std::shared_ptr<net::Session> s) {
         if (in.camera_to_world().size() == sizeof(Mat4)) {
             Mat4 m4;
             std::memcpy(&m4[0][0], in.camera_to_world().data(), sizeof(Mat4));
-            input.camera_to_world = m4;
+            const float* v = &m4[0][0];
+            if (std::all_of(v, v + 16, [](float x) { return std::isfinite(x); }))
+                input.camera_to_world = m4;  // a pose with NaN/Inf is ignored, not rendered
         }
-        for (int k = 0; k < std::min(in.move_size(), 5); ++k)
-            input.move[std::size_t(k)] = std::isfinite(in.move(k)) ? in.move(k) : 0.0f;
+        // A client's move is bounded: at most 10 m and half a turn per input (NaN: none).
+        for (int k = 0; k < std::min(in.move_size(), 5); ++k) {
+            const float limit = k < 3 ? 10.0f : 3.14159265f;
+            input.move[std::size_t(k)] =
+                std::isfinite(in.move(k)) ? std::clamp(in.move(k), -limit, limit) : 0.0f;
+        }
         std::lock_guard lock(mutex_);
         pending_inputs_.push_back(input);
     };

@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "common/film/image_io.h"
+#include "common/net/framing.h"
+#include "common/net/session.h"
+#include "pathfarm/wire/v1/envelope.pb.h"
 #include "tests/support/farm_harness.h"
 #include "tests/support/process.h"
 #include "tests/support/test_env.h"
@@ -198,6 +201,52 @@ TEST(RealtimeClient, WindowShowsFramesAndSendsKeyboardAndMouseInput) {
         best = std::min(best, diff / (64.0 * 50.0 * 3.0));
     }
     EXPECT_LT(best, 1.0) << "mean absolute difference (of 255) to the closest received frame";
+}
+
+// A client may send anything a protobuf can hold: a pose full of NaN and moves of 1e30 m are
+// ignored or bounded, and every frame stays finite.
+TEST(RealtimeFarm, HostileClientInputLeavesFramesFinite) {
+    Farm farm;
+    farm.mode = {"--game", "free-camera", "--target-fps", "20"};
+    farm.start({"--frames", "12"});
+    net::NetService service;
+    net::ClientConfig config;
+    config.port = uint16_t(farm.client_port);
+    config.secret = "farm-test-secret";
+    config.hello.role = net::PeerRole::client;
+    config.hello.name = "hostile-client";
+    config.on_message = [](std::string&&) {};
+    config.on_closed = [](const std::string&) {};
+    auto session = service.connect_sync(config);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    wire::v1::Envelope e;
+    e.set_version(net::kProtocolVersion);
+    auto* in = e.mutable_input();
+    in->set_sequence(1);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float pose[16] = {nan, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e30f, 0, 0, 1};
+    in->set_camera_to_world(std::string(reinterpret_cast<const char*>(pose), sizeof(pose)));
+    for (float m : {1e30f, -1e30f, nan, 1e30f, -1e30f})
+        in->add_move(m);
+    (*session)->send(e.SerializeAsString());
+    farm.add_tracer("t", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    std::vector<double> means;
+    for (int f = 0; f < 12; ++f) {
+        auto img = read_image(farm.frame(f));
+        ASSERT_TRUE(img.ok()) << "frame " << f;
+        EXPECT_EQ(count_nonfinite(*img), 0u) << "frame " << f;
+        double sum = 0.0;
+        for (float v : img->rgb)
+            sum += v;
+        means.push_back(sum / double(img->rgb.size()));
+    }
+    // The camera stayed in the room (the NaN pose ignored, the bounded move stopped at the
+    // floor, looking down): the view is still lit, not black from NaN rays (as it was before
+    // inputs were checked) or empty from 1e30 m away.
+    EXPECT_GT(means.back(), 0.01 * means.front())
+        << "first " << means.front() << ", last " << means.back();
+    (*session)->close("done");
 }
 
 TEST(RealtimeCli, BadInputIsAOneLineError) {
