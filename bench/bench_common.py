@@ -18,6 +18,11 @@ def run(cmd, who, with_stderr=True):
     return out.stdout + (out.stderr if with_stderr else "")
 
 
+def start(cmd, log):
+    """Starts cmd in the background with stdout and stderr in the file at log."""
+    return subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT)
+
+
 def write_csv(path, header, rows):
     with open(path, "w", newline="") as f:
         w = csv.writer(f)

@@ -13,12 +13,8 @@ import statistics
 import subprocess
 import tempfile
 
-from bench_common import ROOT, rmse, wait_for, write_csv
+from bench_common import ROOT, rmse, start, wait_for, write_csv
 from bench_common import run as run_tool
-
-
-def start(cmd, log):
-    return subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT)
 
 
 def farm(build, work, tracers, threads, a):

@@ -22,12 +22,8 @@ import subprocess
 import tempfile
 import time
 
-from bench_common import ROOT, rmse, wait_for, write_csv
+from bench_common import ROOT, rmse, start, wait_for, write_csv
 from bench_common import run as run_tool
-
-
-def start(cmd, log):
-    return subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT)
 
 
 def tracer(build, port, name, log, extra=()):

@@ -21,7 +21,7 @@ import subprocess
 import sys
 import tempfile
 
-from bench_common import ROOT, SCENES, pfm_floats, wait_for, write_csv
+from bench_common import ROOT, SCENES, pfm_floats, start, wait_for, write_csv
 from bench_common import run as run_tool
 
 FULL_SCENES = [
@@ -70,11 +70,11 @@ def farm_point(a, scene, spp, ref, work):
     os.environ["PATHFARM_SECRET"] = "time-vs-error"
     log, stats, dump = (os.path.join(work, n) for n in ("farm.log", "farm_stats.csv", "farm_dump"))
     build = os.path.dirname(os.path.dirname(a.render))
-    coordinator = subprocess.Popen(
+    coordinator = start(
         [f"{build}/coordinator/pathfarm-coordinator", "--scene", scene, "--tracer-port", "0", "--width",
          str(a.width), "--height", str(a.height), "--spp", str(spp), "--frames", "3", "--min-tracers", "2",
          "--fixed-spp", "--no-converge", "--game", "free-camera", "--stats-csv", stats, "--dump-frames", dump],
-        stdout=open(log, "w"), stderr=subprocess.STDOUT)
+        log)
     port = wait_for(log, r"tracer_port=(\d+)", "time_vs_error").group(1)
     tracers = [subprocess.Popen([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{port}",
                                  "--threads", "1", "--name", f"t{i}", "--max-reconnects", "0"],

@@ -23,8 +23,12 @@ FreeCameraGame::FreeCameraGame(const SceneGraph& graph) {
     const Camera cam = active_camera(graph.state()).value_or(Camera{});
     has_camera_ = active_camera(graph.state()).has_value();
     yfov_ = cam.yfov_radians;
-    eye_ = transform_point(cam.camera_to_world, Vec3(0.0f));
-    const Vec3 forward = glm::normalize(transform_vector(cam.camera_to_world, Vec3(0, 0, -1)));
+    take_pose(cam.camera_to_world);
+}
+
+void FreeCameraGame::take_pose(const Mat4& camera_to_world) {
+    eye_ = transform_point(camera_to_world, Vec3(0.0f));
+    const Vec3 forward = glm::normalize(transform_vector(camera_to_world, Vec3(0, 0, -1)));
     yaw_ = std::atan2(-forward.x, -forward.z);
     pitch_ = std::asin(std::clamp(forward.y, -1.0f, 1.0f));
 }
@@ -69,10 +73,7 @@ void FreeCameraGame::on_input(const PlayerInput& in, double clock_seconds, Scene
                               const RayQueryService& queries) {
     if (in.camera_to_world) {  // an absolute pose: scripted clients place the camera themselves
         const Mat4& m = *in.camera_to_world;
-        eye_ = transform_point(m, Vec3(0.0f));
-        const Vec3 forward = glm::normalize(transform_vector(m, Vec3(0, 0, -1)));
-        yaw_ = std::atan2(-forward.x, -forward.z);
-        pitch_ = std::asin(std::clamp(forward.y, -1.0f, 1.0f));
+        take_pose(m);
         Camera cam = active_camera(graph.state()).value_or(Camera{});
         cam.camera_to_world = m;
         graph.set_camera(has_camera_ ? std::optional(graph.state().active_camera) : std::nullopt,

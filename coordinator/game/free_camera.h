@@ -27,6 +27,7 @@ protected:
     virtual void on_action(const RayQueryHit& hit, double clock_seconds, SceneGraph& graph);
 
 private:
+    void take_pose(const Mat4& camera_to_world);  // eye, yaw and pitch from a camera matrix
     Vec3 collide(const Vec3& from, const Vec3& move, const RayQueryService& queries) const;
     void publish_camera(SceneGraph& graph) const;
 

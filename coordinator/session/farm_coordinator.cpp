@@ -150,6 +150,7 @@ private:
     void account_tracers(double& t_max, double& idle, int& n);  // holds mutex_
     void send_to_clients(const FloatImage& image, const PreparedFrame& p);
     FrameQuality next_quality() const;
+    GBuffer frame_gbuffer(const PreparedFrame& p);
 
     static Camera default_camera(const SceneModel& scene, const FarmOptions& o) {
         return frame_bounds(world_bounds(scene), float(o.width) / float(o.height));
@@ -166,9 +167,12 @@ private:
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     Timer run_clock_;                       // since the farm started: stats' wall_ms
     bool stopping_ = false;                 // holds mutex_: run() is closing the sessions
-    std::optional<GBuffer> last_gbuffer_;   // the last frame's, to update instead of re-trace
-    std::shared_ptr<const AccelSnapshot> last_gbuffer_accel_;
-    Camera last_gbuffer_camera_;
+    struct TracedGBuffer {                  // the last frame's, to update instead of re-trace
+        GBuffer gbuffer;
+        std::shared_ptr<const AccelSnapshot> accel;
+        Camera camera;
+    };
+    std::optional<TracedGBuffer> last_gbuffer_;
     AccelUpdater accel_;
     std::shared_ptr<const AccelSnapshot> accel_snapshot_;
     std::mutex mutex_;
@@ -601,6 +605,18 @@ void Farm::send_to_clients(const FloatImage& image, const PreparedFrame& p) {
     }
 }
 
+// With the same camera as last frame only the pixels under changed instances are traced again.
+GBuffer Farm::frame_gbuffer(const PreparedFrame& p) {
+    const Camera& cam = p.view.camera;
+    const bool reuse = last_gbuffer_ &&
+                       last_gbuffer_->camera.camera_to_world == cam.camera_to_world &&
+                       last_gbuffer_->camera.yfov_radians == cam.yfov_radians;
+    GBuffer g = reuse ? update_gbuffer(last_gbuffer_->gbuffer, *last_gbuffer_->accel, *p.accel, cam)
+                      : trace_gbuffer(*p.accel, cam, o_.width, o_.height);
+    last_gbuffer_ = TracedGBuffer{g, p.accel, cam};
+    return g;
+}
+
 FrameQuality Farm::next_quality() const {
     if (!scaler_) return {o_.width, o_.height, o_.spp, 1.0f};
     const QualityLevel& l = scaler_->level();
@@ -689,20 +705,8 @@ Status Farm::run(const std::atomic<bool>& stop) {
             ++completed;
             continue;
         }
-        if (o_.converge) {  // and the G-buffer for reprojection, while the tracers render
-            // Same camera: re-trace only where instances changed (docs/realtime.md).
-            const bool reuse =
-                last_gbuffer_ &&
-                last_gbuffer_camera_.camera_to_world == current.view.camera.camera_to_world &&
-                last_gbuffer_camera_.yfov_radians == current.view.camera.yfov_radians;
-            current.view.gbuffer =
-                reuse ? update_gbuffer(*last_gbuffer_, *last_gbuffer_accel_, *current.accel,
-                                       current.view.camera)
-                      : trace_gbuffer(*current.accel, current.view.camera, o_.width, o_.height);
-            last_gbuffer_ = current.view.gbuffer;
-            last_gbuffer_accel_ = current.accel;
-            last_gbuffer_camera_ = current.view.camera;
-        }
+        // The G-buffer for reprojection, traced while the tracers render.
+        if (o_.converge) current.view.gbuffer = frame_gbuffer(current);
         const double prepare_ms = stage.milliseconds();
         stage.reset();
         if (!wait_for_frame(stop)) continue;
