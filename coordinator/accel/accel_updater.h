@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "common/scene/scene_state.h"
-#include "coordinator/accel/bvh.h"
+#include "common/scene/bvh.h"
 #include "coordinator/scene_graph/change_set.h"
 
 namespace pathfarm::coord {

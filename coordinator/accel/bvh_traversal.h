@@ -3,7 +3,7 @@
 #pragma once
 
 #include "common/math/types.h"
-#include "coordinator/accel/bvh.h"
+#include "common/scene/bvh.h"
 
 namespace pathfarm::coord {
 

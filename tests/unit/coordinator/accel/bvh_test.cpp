@@ -1,5 +1,5 @@
 // BVH construction and refit invariants, and agreement with Embree on the Stanford models.
-#include "coordinator/accel/bvh.h"
+#include "common/scene/bvh.h"
 
 #include <cstdio>
 

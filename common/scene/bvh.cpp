@@ -1,10 +1,10 @@
 // Binned SAH construction and refit.
-#include "coordinator/accel/bvh.h"
+#include "common/scene/bvh.h"
 
 #include <algorithm>
 #include <array>
 
-namespace pathfarm::coord {
+namespace pathfarm {
 namespace {
 
 float half_area(const Bounds3f& b) {
@@ -179,4 +179,4 @@ double sah_cost(const Bvh& bvh) {
     return cost;
 }
 
-}  // namespace pathfarm::coord
+}  // namespace pathfarm

@@ -1,5 +1,5 @@
 // Bottom-level BVH over a triangle mesh: binned SAH build, refit, and its SAH cost. The node
-// layout is BvhNode (common/render/bvh_shared.h), portable to device kernels.
+// layout is BvhNode (common/scene/bvh_node.h), portable to device kernels.
 #pragma once
 
 #include <vector>
@@ -7,7 +7,7 @@
 #include "common/math/types.h"
 #include "common/scene/bvh_node.h"
 
-namespace pathfarm::coord {
+namespace pathfarm {
 
 struct Bvh {
     std::vector<BvhNode> nodes;          // depth first; nodes[0] is the root
@@ -31,4 +31,4 @@ void refit_bvh(Bvh& bvh, const std::vector<Vec3>& positions, const std::vector<u
 // visit, intersection cost 1 per primitive. Refits degrade it; rebuilding restores it.
 double sah_cost(const Bvh& bvh);
 
-}  // namespace pathfarm::coord
+}  // namespace pathfarm
