@@ -23,3 +23,11 @@ if(PATHFARM_WITH_EMBREE)
     pathfarm_optional(PATHFARM_WITH_EMBREE "embree 3 not found (apt-get install libembree-dev)")
   endif()
 endif()
+
+if(PATHFARM_WITH_OPENCL)
+  find_package(OpenCL QUIET)
+  if(NOT OpenCL_FOUND OR NOT EXISTS "${OpenCL_INCLUDE_DIR}/CL/opencl.hpp")
+    pathfarm_optional(PATHFARM_WITH_OPENCL
+      "OpenCL not found (apt-get install ocl-icd-opencl-dev opencl-clhpp-headers pocl-opencl-icd)")
+  endif()
+endif()

@@ -22,7 +22,13 @@ int main(int argc, char** argv) {
     app.add_option("--coordinator", coordinator, "Coordinator tracer port, HOST:PORT")->required();
     app.add_option("--backend", o.backend, "Render backend: embree or opencl")
         ->capture_default_str();
-    app.add_option("--threads", o.threads, "Render threads (0: all)")->capture_default_str();
+    app.add_option("--threads", o.threads,
+                   "Render threads (0: all; OpenCL: compute units of the device)")
+        ->capture_default_str();
+    app.add_option("--cl-platform", o.cl_platform, "OpenCL platform index (see clinfo -l)")
+        ->capture_default_str();
+    app.add_option("--cl-device", o.cl_device, "OpenCL device index within the platform")
+        ->capture_default_str();
     app.add_option("--secret-file", secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
     app.add_option("--name", o.name, "Name shown in the coordinator's statistics")

@@ -116,6 +116,7 @@ private:
             scene_ = replica_.take_scene_model();
             // Camera-relative, as pathfarm-render does (scene_model.h): same floats, same image.
             recentre_on_camera(scene_, scene_.cameras.empty() ? Camera{} : scene_.cameras[0]);
+            if (backend_.wants_bvh_nodes()) backend_.provide_mesh_bvhs(mesh_bvhs());
             if (Status s = backend_.set_scene(scene_); !s) return s;
         }
         RenderJob job;
@@ -137,6 +138,19 @@ private:
                 return s;
         }
         return {};
+    }
+
+    // The coordinator's mesh BVHs in SceneModel mesh order (to_scene_model keeps id order).
+    std::vector<MeshBvhView> mesh_bvhs() const {
+        std::vector<MeshBvhView> views;
+        const ReplicaState& state = replica_.state();
+        for (const auto& [id, mesh] : state.scene.meshes) {
+            const auto it = state.bvh.meshes.find(id);
+            views.push_back(it == state.bvh.meshes.end()
+                                ? MeshBvhView{}
+                                : MeshBvhView{&it->second.nodes, &it->second.prim_indices});
+        }
+        return views;
     }
 
     Status render_tile(const pb::FrameAssignment& a, RenderJob& job, int y0, int y1) {
@@ -209,7 +223,7 @@ double frame_slowdown(const TracerOptions& o, uint64_t frame) {
 Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     auto kind = parse_backend_kind(o.backend);
     if (!kind) return kind.error();
-    auto backend = create_backend(*kind, BackendOptions{o.threads});
+    auto backend = create_backend(*kind, BackendOptions{o.threads, o.cl_platform, o.cl_device});
     if (!backend) return backend.error();
     if (!(o.slowdown >= 1.0))
         return make_error(ErrorCode::invalid_argument, "--slowdown {}: must be >= 1", o.slowdown);
@@ -225,6 +239,7 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     config.hello.name = o.name;
     config.hello.backend = o.backend;
     config.hello.threads = uint32_t(o.threads);
+    config.hello.wants_bvh_nodes = (*backend)->wants_bvh_nodes();
     auto backoff = std::chrono::milliseconds(200);
     for (int attempt = 0; !stop && (o.max_reconnects < 0 || attempt <= o.max_reconnects);
          ++attempt) {

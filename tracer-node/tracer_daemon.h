@@ -15,6 +15,8 @@ struct TracerOptions {
     uint16_t port = 0;
     std::string backend = "embree";
     int threads = 0;
+    int cl_platform = 0;  // OpenCL backend: platform and device index
+    int cl_device = 0;
     std::string secret;
     std::string name = "tracer";
     double slowdown = 1.0;  // >1: wait (slowdown - 1) x the render time after each tile

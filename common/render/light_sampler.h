@@ -36,14 +36,21 @@ public:
     bool has_environment() const { return sun_sky_ != nullptr; }
     std::size_t triangle_count() const { return triangles_.size(); }
 
-private:
+    // The distribution itself, for backends that sample it on a device.
     struct EmissiveTriangle {
         uint32_t instance, prim;
         int material;
         Vec3 p0, e1, e2, n;
         float area;
     };
+    const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
+    const std::vector<float>& cdf() const { return cdf_; }  // normalised cumulative power
+    float environment_probability() const { return p_environment_; }
+    const SunSky* sun_sky() const { return sun_sky_.get(); }
+    // Index of the instance's first triangle in triangles(), or -1 if it emits nothing.
+    int64_t first_light_of(uint32_t instance) const { return instance_offset_[instance]; }
 
+private:
     const ShadingScene& shading_;
     std::vector<EmissiveTriangle> triangles_;
     std::vector<float> cdf_;                // cumulative power, normalised to 1

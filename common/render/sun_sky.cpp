@@ -74,6 +74,23 @@ SunSky::SunSky(const Environment& env) {
     if (above == 0.0f) p_sun_ = 0.0f;
 }
 
+SunSkyParams SunSky::params() const {
+    SunSkyParams p{};
+    p.sun_dir = sun_dir_;
+    p.sun_cos_max = sun_cos_max_;
+    p.sun_radiance = sun_radiance_;
+    p.sky_scale = sky_scale_;
+    p.p_sun = p_sun_;
+    std::copy(perez_y_, perez_y_ + 5, p.perez_y);
+    std::copy(perez_x_, perez_x_ + 5, p.perez_x);
+    std::copy(perez_yy_, perez_yy_ + 5, p.perez_yy);
+    p.zenith_y = zenith_y_;
+    p.zenith_x = zenith_x_;
+    p.zenith_yy = zenith_yy_;
+    p.theta_sun = theta_sun_;
+    return p;
+}
+
 Rgb SunSky::sky_radiance(const Vec3& w) const {
     if (w.y <= 0.0f) return Rgb(0.0f);
     const float cos_gamma = std::clamp(glm::dot(w, sun_dir_), -1.0f, 1.0f);

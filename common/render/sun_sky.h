@@ -11,6 +11,19 @@ namespace pathfarm {
 inline constexpr float kSunIrradiance = 5.0f;
 inline constexpr float kSunHalfAngleRadians = 0.00873f;  // 0.5 degrees
 
+// Everything the sun/sky model evaluates at run time, for backends that evaluate it elsewhere
+// (the OpenCL kernels read these numbers).
+struct SunSkyParams {
+    Vec3 sun_dir;
+    float sun_cos_max;
+    Rgb sun_radiance;
+    float sky_scale;
+    float p_sun;
+    float perez_y[5], perez_x[5], perez_yy[5];
+    float zenith_y, zenith_x, zenith_yy;
+    float theta_sun;
+};
+
 struct EnvSample {
     Vec3 wi{0.0f};
     Rgb radiance{0.0f};
@@ -28,6 +41,7 @@ public:
     float pdf(const Vec3& w) const;
 
     const Vec3& sun_direction() const { return sun_dir_; }
+    SunSkyParams params() const;
 
 private:
     Rgb sky_radiance(const Vec3& w) const;

@@ -10,8 +10,8 @@
 #include <map>
 #include <memory>
 
-#include "common/scene/scene_state.h"
 #include "common/scene/bvh.h"
+#include "common/scene/scene_state.h"
 #include "coordinator/scene_graph/change_set.h"
 
 namespace pathfarm::coord {

@@ -92,8 +92,8 @@ double student_t_p_value(double t, double dof) {
 }
 
 FloatImage render(const SceneModel& scene, const RenderRequest& r) {
-    auto backend = tracer::create_backend(tracer::BackendKind::embree, {r.threads});
-    EXPECT_TRUE(backend.ok());
+    auto backend = tracer::create_backend(r.backend, {r.threads});
+    EXPECT_TRUE(backend.ok()) << (backend.ok() ? "" : backend.error().message);
     if (!backend.ok()) return {};
     SceneModel local = scene;  // rendered relative to the camera, as the tools do
     Camera camera = recentre_on_camera(

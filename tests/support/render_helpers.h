@@ -1,5 +1,5 @@
-// Rendering helpers for tests: scenes with analytic answers and one-call renders through the
-// Embree backend.
+// Rendering helpers for tests: scenes with analytic answers and one-call renders through a
+// backend.
 #pragma once
 
 #include <vector>
@@ -7,6 +7,7 @@
 #include "common/film/film.h"
 #include "common/render/path_tracer.h"
 #include "common/scene/scene_model.h"
+#include "tracer-node/backend/render_backend.h"
 
 namespace pathfarm::test {
 
@@ -19,9 +20,11 @@ struct RenderRequest {
     int threads = 2;
     IntegratorSettings integrator;
     std::vector<int> row_splits;  // render [0,s0), [s0,s1), ... [sN,height) separately
+    tracer::BackendKind backend = tracer::BackendKind::embree;
 };
 
-// Renders with the Embree backend; fails the test (and returns an empty image) on error.
+// Renders with the requested backend (Embree by default); fails the test (and returns an
+// empty image) on error.
 FloatImage render(const SceneModel& scene, const RenderRequest& request);
 
 // Every surface emits `emission` and reflects with Lambert albedo `albedo`: a sphere inside

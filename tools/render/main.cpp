@@ -49,7 +49,13 @@ int main(int argc, char** argv) {
     app.add_option("--frame", o.frame, "Frame index (enters the random numbers)")
         ->capture_default_str();
     add_camera_options(app, o, look_from, look_at, up);
-    app.add_option("--threads", o.threads, "Render threads (0: all)")->capture_default_str();
+    app.add_option("--threads", o.threads,
+                   "Render threads (0: all; OpenCL: compute units of the device)")
+        ->capture_default_str();
+    app.add_option("--cl-platform", o.cl_platform, "OpenCL platform index (see clinfo -l)")
+        ->capture_default_str();
+    app.add_option("--cl-device", o.cl_device, "OpenCL device index within the platform")
+        ->capture_default_str();
     app.add_option("--max-depth", o.max_depth, "Maximum number of bounces")->capture_default_str();
     app.add_option("--backend", o.backend, "Render backend: embree or opencl")
         ->capture_default_str();

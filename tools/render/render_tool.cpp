@@ -95,7 +95,8 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     auto camera = pick_camera(*scene, o, float(o.width) / float(o.height));
     if (!camera) return camera.error();
     *camera = recentre_on_camera(*scene, *camera);  // precision where the pixels are
-    auto backend = tracer::create_backend(*kind, tracer::BackendOptions{o.threads});
+    auto backend = tracer::create_backend(
+        *kind, tracer::BackendOptions{o.threads, o.cl_platform, o.cl_device});
     if (!backend) return backend.error();
     if (Status s = (*backend)->set_scene(*scene); !s) return s.error();
 

@@ -28,6 +28,8 @@ struct RenderToolOptions {
     std::optional<double> time;  // animated scenes: pose at this time of the clip's timeline
     std::string clip;            // clip name or index; default the first
     int threads = 0;
+    int cl_platform = 0;  // OpenCL backend: platform and device index
+    int cl_device = 0;
     int max_depth = 8;
     LightStrategy strategy = LightStrategy::mis;
     bool specialise = true;  // the path-tracing loop specialised for the scene's features

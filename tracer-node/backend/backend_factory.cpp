@@ -4,6 +4,9 @@
 #ifdef PATHFARM_HAS_EMBREE
 #include "tracer-node/embree/embree_backend.h"
 #endif
+#ifdef PATHFARM_HAS_OPENCL
+#include "tracer-node/opencl/opencl_backend.h"
+#endif
 
 namespace pathfarm::tracer {
 
@@ -26,8 +29,16 @@ Result<std::unique_ptr<RenderBackend>> create_backend(BackendKind kind,
 #endif
         case BackendKind::opencl:
         default:
+#ifdef PATHFARM_HAS_OPENCL
+        {
+            auto backend = make_opencl_backend(options);
+            if (!backend) return backend.error();
+            return std::unique_ptr<RenderBackend>(std::move(backend.value()));
+        }
+#else
             return make_error(ErrorCode::unsupported,
-                              "opencl backend: not available in this build yet");
+                              "opencl backend: not built (PATHFARM_WITH_OPENCL=OFF)");
+#endif
     }
 }
 

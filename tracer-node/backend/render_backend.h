@@ -5,10 +5,12 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "common/base/result.h"
 #include "common/render/frame_render.h"
 #include "common/render/path_tracer.h"
+#include "common/scene/bvh_node.h"
 #include "common/scene/scene_model.h"
 
 namespace pathfarm::tracer {
@@ -25,10 +27,22 @@ struct RenderStats {
     SampleCounters counters;
 };
 
+// A mesh's BVH as the coordinator built it (common/scene/bvh.h layout), for backends that
+// traverse the coordinator's BVH themselves (DESIGN.md: the OpenCL tracer).
+struct MeshBvhView {
+    const std::vector<BvhNode>* nodes = nullptr;
+    const std::vector<uint32_t>* prim_indices = nullptr;
+};
+
 class RenderBackend {
 public:
     virtual ~RenderBackend() = default;
     virtual std::string name() const = 0;
+    // Whether this backend traverses the coordinator's BVH (its tracer asks for BVH nodes).
+    virtual bool wants_bvh_nodes() const { return false; }
+    // BVHs for the next set_scene, indexed like SceneModel::meshes (the views must outlive that
+    // call). A mesh without one (or with an invalid one) gets a BVH built by the backend.
+    virtual void provide_mesh_bvhs(std::vector<MeshBvhView> /*bvhs*/) {}
     // Makes `scene` the scene to render. The model must outlive the backend's use of it.
     virtual Status set_scene(const SceneModel& scene) = 0;
     // Renders rows [job.y0, job.y1) into out: (y1 - y0) rows of width * 3 floats, top row first.
@@ -38,7 +52,9 @@ public:
 enum class BackendKind { embree, opencl };
 
 struct BackendOptions {
-    int threads = 0;  // 0: all hardware threads
+    int threads = 0;      // 0: all hardware threads (OpenCL: all compute units of the device)
+    int cl_platform = 0;  // OpenCL platform and device, as listed by --list-devices
+    int cl_device = 0;
 };
 
 Result<BackendKind> parse_backend_kind(const std::string& name);

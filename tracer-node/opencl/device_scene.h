@@ -1,0 +1,61 @@
+// The scene as the OpenCL kernels read it: flat arrays of the structs in device_types.h,
+// packed on the host from a SceneModel and the coordinator's mesh BVHs. Packing is pure CPU
+// work (tested without a device); the backend uploads what changed since the last packing.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "common/scene/bvh.h"
+#include "common/scene/scene_model.h"
+#include "tracer-node/backend/render_backend.h"
+#include "tracer-node/opencl/device_types.h"
+
+namespace pathfarm::tracer {
+
+struct PackedScene {
+    std::vector<float> positions;  // 3 per vertex, all meshes back to back
+    std::vector<float> normals;    // parallel to positions; zeros where a mesh has none
+    std::vector<float> uvs;        // 2 per vertex
+    std::vector<float> tangents;   // 4 per vertex
+    std::vector<uint32_t> indices;
+    std::vector<PfMesh> meshes;
+    std::vector<PfInstance> instances;
+    std::vector<PfBvhNode> nodes;  // every mesh's BVH, back to back
+    std::vector<uint32_t> prims;
+    std::vector<PfBvhNode> top_nodes;  // over the instances
+    std::vector<uint32_t> top_prims;
+    std::vector<PfMaterial> materials;
+    std::vector<PfTexture> textures;
+    std::vector<uint8_t> texels;  // RGBA8, all images back to back
+    std::vector<PfLight> lights;
+    PfSceneGlobals globals{};
+    uint32_t features = 0;                // SceneFeature bits the scene needs (scene_features)
+    std::size_t meshes_with_own_bvh = 0;  // meshes whose BVH the tracer built (none provided)
+};
+
+// Mesh BVHs the tracer built itself, kept across packings and rebuilt only when a mesh's
+// positions or indices change.
+class LocalBvhCache {
+public:
+    const Bvh& get(std::size_t mesh_index, const Mesh& mesh);
+
+private:
+    struct Entry {
+        uint64_t content = 0;
+        Bvh bvh;
+    };
+    std::map<std::size_t, Entry> entries_;
+};
+
+// Whether nodes/prim_indices form a BVH the kernels can traverse safely over a mesh of
+// triangle_count triangles (children in range, left child next, leaves inside prim_indices).
+bool is_traversable_bvh(const std::vector<BvhNode>& nodes, const std::vector<uint32_t>& prims,
+                        std::size_t triangle_count);
+
+// bvhs is indexed like scene.meshes (may be shorter or empty).
+PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& bvhs,
+                       LocalBvhCache& cache);
+
+}  // namespace pathfarm::tracer

@@ -1,0 +1,143 @@
+// Plain structs shared between the C++ host code and the OpenCL C kernels: the build prepends
+// this header to the kernel source, so both sides read one definition. Every field is 4 bytes
+// wide (no vector types), so C++ and OpenCL C lay the structs out identically; the host
+// static_asserts the sizes.
+#ifndef PATHFARM_OPENCL_DEVICE_TYPES_H
+#define PATHFARM_OPENCL_DEVICE_TYPES_H
+
+#ifdef __OPENCL_C_VERSION__
+typedef uint pf_uint;
+typedef int pf_int;
+#else
+#include <cstdint>
+typedef uint32_t pf_uint;
+typedef int32_t pf_int;
+#endif
+
+#define PF_MESH_NORMALS 1u
+#define PF_MESH_UVS 2u
+#define PF_MESH_TANGENTS 4u
+
+// LightStrategy, in the same order as common/render/path_tracer.h.
+#define PF_STRATEGY_MIS 0
+#define PF_STRATEGY_LIGHT_ONLY 1
+#define PF_STRATEGY_BSDF_ONLY 2
+
+// SceneFeature bits, as common/render/path_tracer.h.
+#define PF_FEATURE_EMITTERS 1u
+#define PF_FEATURE_ENVIRONMENT 2u
+#define PF_FEATURE_TRANSMISSION 4u
+
+// Same layout as pathfarm::BvhNode (common/scene/bvh_node.h).
+typedef struct {
+    float lower[3];
+    pf_uint first;  // interior: right child; leaf: first entry of the primitive index array
+    float upper[3];
+    pf_uint count;  // 0 for interior nodes
+} PfBvhNode;
+
+// 3x4 matrices are stored by rows: m[4 * r + c], column 3 the translation.
+typedef struct {
+    float object_to_world[12];
+    float world_to_object[12];
+    float normal_matrix[9];  // rows of the inverse transpose of the upper 3x3
+    float handedness;        // sign of the transform's determinant
+    pf_uint mesh;
+    pf_int
+        first_light;  // index of the instance's first emissive triangle in the light array, or -1
+} PfInstance;
+
+typedef struct {
+    pf_uint first_index;  // into the index array (3 per triangle; values are mesh-local)
+    pf_uint triangle_count;
+    pf_uint first_vertex;  // into the vertex attribute arrays
+    pf_uint first_node;    // root of the mesh's BVH in the node array
+    pf_uint first_prim;    // into the BVH primitive index array
+    pf_uint flags;         // PF_MESH_*
+    pf_int material;
+    pf_uint node_count;
+} PfMesh;
+
+typedef struct {
+    float base_color[4];
+    float emission[3];  // emissive factor * strength
+    float metallic;
+    float roughness;
+    float transmission;
+    float ior;
+    float specular;
+    float specular_color[3];
+    float normal_scale;
+    float sigma_a[3];  // Beer absorption per metre
+    pf_int base_color_texture;
+    pf_int metallic_roughness_texture;
+    pf_int normal_texture;
+    pf_int emissive_texture;
+    pf_uint double_sided;
+    pf_uint emissive;
+} PfMaterial;
+
+// A texture with its image resolved; width 0 means the image is missing (samples are white).
+typedef struct {
+    pf_uint first_texel;  // into the RGBA8 texel array, in texels
+    pf_int width;
+    pf_int height;
+    pf_uint filter;  // 0 nearest, 1 linear (FilterMode)
+    pf_uint wrap_s;  // WrapMode: 0 repeat, 1 clamp to edge, 2 mirrored repeat
+    pf_uint wrap_t;
+} PfTexture;
+
+// An emissive triangle of LightSampler, in world space.
+typedef struct {
+    float p0[3];
+    float e1[3];
+    float e2[3];
+    float n[3];
+    float area;
+    float cdf;  // normalised cumulative power up to and including this triangle
+    pf_uint instance;
+    pf_uint prim;
+    pf_int material;
+    pf_uint pad;
+} PfLight;
+
+// Scene-wide values: the sun/sky (SunSkyParams) and the light selection.
+typedef struct {
+    float sun_dir[3];
+    float sun_cos_max;
+    float sun_radiance[3];
+    float sky_scale;
+    float p_sun;
+    float perez_y[5];
+    float perez_x[5];
+    float perez_yy[5];
+    float zenith_y;
+    float zenith_x;
+    float zenith_yy;
+    float theta_sun;
+    float p_environment;  // probability of sampling the sun/sky rather than a triangle
+    pf_uint has_environment;
+    pf_uint light_count;
+    pf_uint instance_count;
+} PfSceneGlobals;
+
+// One kernel launch: rows [y0, y1) of a frame.
+typedef struct {
+    float camera_to_world[12];
+    float tan_half_fov;
+    pf_int width;
+    pf_int height;
+    pf_uint frame;
+    pf_uint seed;
+    pf_int spp;
+    pf_int first_sample;
+    pf_int y0;
+    pf_int y1;
+    pf_int max_depth;
+    pf_int strategy;  // PF_STRATEGY_*
+    pf_int rr_start_depth;
+    float rr_scale;
+    pf_uint pad[3];
+} PfFrameParams;
+
+#endif  // PATHFARM_OPENCL_DEVICE_TYPES_H

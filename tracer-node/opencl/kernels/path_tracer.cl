@@ -1,0 +1,226 @@
+// The path-tracing loop (common/render/path_tracer.cpp) and the per-pixel sample loop
+// (common/render/frame_render.cpp). PF_FEATURES (SceneFeature bits) is set when the program
+// is built: a variant leaves out what its scenes lack, like PathTracer::trace_with<kFeatures>.
+
+#ifndef PF_FEATURES
+#define PF_FEATURES 7u
+#endif
+#define PF_EMITTERS ((PF_FEATURES & PF_FEATURE_EMITTERS) != 0u)
+#define PF_ENVIRONMENT ((PF_FEATURES & PF_FEATURE_ENVIRONMENT) != 0u)
+#define PF_TRANSMISSION ((PF_FEATURES & PF_FEATURE_TRANSMISSION) != 0u)
+
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
+
+bool pf_consistent_side(float3 w_world, float3 w_local, float3 ng) {
+    return dot(w_world, ng) * w_local.z > 0.0f;
+}
+
+float pf_light_pdf_solid_angle(const PfScene* s, const PfHit* hit, const PfSurface* sp,
+                               float3 origin) {
+    const float pdf_area = pf_triangle_pdf_area(s, hit->instance, hit->prim);
+    if (pdf_area <= 0.0f) return 0.0f;
+    const float3 d = sp->p - origin;
+    const float dist2 = dot(d, d);
+    const float cos_light = fabs(dot(sp->ng, d)) / sqrt(dist2);
+    return cos_light > 0.0f ? pdf_area * dist2 / cos_light : 0.0f;
+}
+
+float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurface* sp,
+                        const PfBsdf* bsdf, const PfFrame* frame, float3 shading_ng,
+                        float3 wo_local, PfSampler* sampler, uint* rays) {
+    const float2 u_select = pf_next_2d(sampler);
+    const float2 u_light = pf_next_2d(sampler);
+    if (fp->strategy == PF_STRATEGY_BSDF_ONLY || pf_lights_empty(s->globals) ||
+        !bsdf->has_non_delta)
+        return (float3)(0.0f);
+    PfLightSample ls;
+    if (!pf_sample_light(s, sp->p, u_select.x, u_light, &ls) || ls.pdf <= 0.0f ||
+        pf_max3(ls.radiance) <= 0.0f)
+        return (float3)(0.0f);
+    float3 wi;
+    float pdf_light = ls.pdf;
+    if (ls.environment) {
+        wi = ls.p;
+    } else {
+        const float3 d = ls.p - sp->p;
+        const float dist2 = dot(d, d);
+        const float dist = sqrt(dist2);
+        wi = d / dist;
+        const float cos_light = fabs(dot(ls.n, wi));
+        if (cos_light <= 0.0f || dist2 <= 0.0f) return (float3)(0.0f);
+        pdf_light *= dist2 / cos_light;
+    }
+    const float3 wi_local = pf_to_local(frame, wi);
+    if (!pf_consistent_side(wi, wi_local, shading_ng)) return (float3)(0.0f);
+    const float3 ng = dot(wi, sp->ng) > 0.0f ? sp->ng : -sp->ng;
+    const float3 f = pf_bsdf_eval(bsdf, wo_local, wi_local) * fabs(wi_local.z);
+    if (pf_max3(f) <= 0.0f) return (float3)(0.0f);
+    PfRay shadow;
+    shadow.o = pf_offset_ray_origin(sp->p, ng);
+    shadow.d = wi;
+    if (ls.environment) {
+        shadow.tmax = PF_INFINITY;
+    } else {
+        const float3 target = pf_offset_ray_origin(ls.p, dot(ls.n, -wi) > 0.0f ? ls.n : -ls.n);
+        shadow.tmax = dot(target - shadow.o, wi) * (1.0f - 1e-5f);
+    }
+    ++*rays;
+    PfHit unused;
+    if (pf_trace(s, shadow, &unused, true)) return (float3)(0.0f);
+    const float weight = fp->strategy == PF_STRATEGY_LIGHT_ONLY
+                             ? 1.0f
+                             : pf_power_heuristic(pdf_light, pf_bsdf_pdf(bsdf, wo_local, wi_local));
+    return f * ls.radiance * (weight / pdf_light);
+}
+
+// Radiance along a camera ray; a non-finite estimate is counted and returned as zero.
+float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSampler* sampler,
+                     uint* rays, uint* nonfinite) {
+    float3 radiance = (float3)(0.0f);
+    float3 beta = (float3)(1.0f);
+    float3 sigma_a = (float3)(0.0f);
+    bool delta_bounce = true;
+    float bsdf_pdf = 0.0f;
+    float3 last_point = ray.o;
+    for (int depth = 0;; ++depth) {
+        PfHit hit;
+        ++*rays;
+        const bool found = pf_trace(s, ray, &hit, false);
+        const bool count_emission = delta_bounce || fp->strategy != PF_STRATEGY_LIGHT_ONLY;
+        if (!found) {
+            if (PF_ENVIRONMENT && s->globals->has_environment && count_emission) {
+                const float3 le = pf_environment_radiance(s->globals, ray.d);
+                const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
+                                    ? 1.0f
+                                    : pf_power_heuristic(bsdf_pdf, pf_environment_pdf(s->globals, ray.d));
+                radiance += beta * le * w;
+            }
+            break;
+        }
+        if (PF_TRANSMISSION && pf_max3(sigma_a) > 0.0f) beta *= exp(-sigma_a * hit.t);
+
+        PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
+        const float3 wo = -ray.d;
+        if (PF_EMITTERS && count_emission) {
+            const float3 le = pf_emitted(s, &sp, wo);
+            if (pf_max3(le) > 0.0f) {
+                const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
+                                    ? 1.0f
+                                    : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(s, &hit, &sp, last_point));
+                radiance += beta * le * w;
+            }
+        }
+        if (depth >= fp->max_depth) break;
+
+        const PfMaterialPoint mp = pf_material_point(s, &sp);
+        const PfBsdf bsdf = pf_make_bsdf(mp);
+        const bool transmissive = bsdf.w_glass > 0.0f;
+        // orient(): opaque surfaces are shaded on the side the ray arrives from.
+        float3 ng = sp.ng, ns = sp.ns;
+        if (!transmissive && dot(wo, ng) < 0.0f) {
+            ng = -ng;
+            ns = -ns;
+        }
+        if (!transmissive && dot(wo, ns) <= 0.0f) ns = ng;
+        const PfFrame frame = pf_frame_from_normal_tangent(ns, sp.tangent);
+        const float3 wo_local = pf_to_local(&frame, wo);
+        radiance += beta * pf_sample_direct(s, fp, &sp, &bsdf, &frame, ng, wo_local, sampler, rays);
+
+        const float2 u_lobe = pf_next_2d(sampler);
+        const float2 u_dir = pf_next_2d(sampler);
+        PfBsdfSample bs;
+        if (!pf_bsdf_sample(&bsdf, wo_local, u_lobe.x, u_dir, &bs)) break;
+        const float3 wi = pf_to_world(&frame, bs.wi);
+        if (!pf_consistent_side(wi, bs.wi, ng)) break;
+        const float3 ng_out = dot(wi, ng) > 0.0f ? ng : -ng;
+        beta *= bs.f * (fabs(bs.wi.z) / bs.pdf);
+        delta_bounce = bs.delta;
+        bsdf_pdf = bs.pdf;
+
+        if (PF_TRANSMISSION && transmissive && dot(wi, sp.ng) * dot(wo, sp.ng) < 0.0f)
+            sigma_a = dot(wi, sp.ng) < 0.0f ? pf_vec3(s->materials[sp.material].sigma_a)
+                                            : (float3)(0.0f);
+
+        if (depth + 1 >= fp->rr_start_depth) {
+            const float survive = fmin(1.0f, pf_max3(beta) * fp->rr_scale);
+            if (u_lobe.y >= survive) break;
+            beta /= survive;
+        }
+        last_point = sp.p;
+        ray.o = pf_offset_ray_origin(sp.p, ng_out);
+        ray.d = wi;
+        ray.tmax = PF_INFINITY;
+    }
+    if (!pf_is_finite3(radiance)) {
+        ++*nonfinite;
+        return (float3)(0.0f);
+    }
+    return radiance;
+}
+
+// One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples. out holds
+// (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel.
+__kernel void pf_render_rows(PfFrameParams fp, __global const float* positions,
+                             __global const float* normals, __global const float* uvs,
+                             __global const float* tangents, __global const uint* indices,
+                             __global const PfMesh* meshes, __global const PfInstance* instances,
+                             __global const PfBvhNode* nodes, __global const uint* prims,
+                             __global const PfBvhNode* top_nodes, __global const uint* top_prims,
+                             __global const PfMaterial* materials,
+                             __global const PfTexture* textures, __global const uchar* texels,
+                             __global const PfLight* lights,
+                             __global const PfSceneGlobals* globals, __global float* out,
+                             __global uint* counters) {
+    const int x = (int)get_global_id(0);
+    const int row = (int)get_global_id(1);
+    if (x >= fp.width || row >= fp.y1 - fp.y0) return;
+    const int y = fp.y0 + row;
+    PfScene s = {positions, normals, uvs, tangents, indices, meshes, instances, nodes, prims,
+                 top_nodes, top_prims, materials, textures, texels, lights, globals};
+    const float* c2w = fp.camera_to_world;
+    const float3 eye = (float3)(c2w[3], c2w[7], c2w[11]);
+    const float aspect = (float)fp.width / (float)fp.height;
+    uint rays = 0, nonfinite = 0;
+#ifdef cl_khr_fp64
+    double3 sum = (double3)(0.0);
+#else
+    float3 sum = (float3)(0.0f), carry = (float3)(0.0f);  // Kahan summation
+#endif
+    for (int k = fp.first_sample; k < fp.first_sample + fp.spp; ++k) {
+        PfSampler sampler = pf_make_sampler((uint)x, (uint)y, fp.frame, (uint)k, fp.seed);
+        const float2 jitter = pf_next_2d(&sampler);
+        const float px = (float)x + jitter.x, py = (float)y + jitter.y;
+        const float sx = (2.0f * px / (float)fp.width - 1.0f) * fp.tan_half_fov * aspect;
+        const float sy = (1.0f - 2.0f * py / (float)fp.height) * fp.tan_half_fov;
+        PfRay ray;
+        ray.o = eye;
+        ray.d = normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2],
+                                   c2w[4] * sx + c2w[5] * sy - c2w[6],
+                                   c2w[8] * sx + c2w[9] * sy - c2w[10]));
+        ray.tmax = PF_INFINITY;
+        const float3 l = pf_trace_path(&s, &fp, ray, &sampler, &rays, &nonfinite);
+#ifdef cl_khr_fp64
+        sum += convert_double3(l);
+#else
+        const float3 yk = l - carry;
+        const float3 t = sum + yk;
+        carry = (t - sum) - yk;
+        sum = t;
+#endif
+    }
+    const size_t o = (size_t)row * (size_t)fp.width + (size_t)x;
+#ifdef cl_khr_fp64
+    const double inv_spp = 1.0 / (double)max(fp.spp, 1);
+    out[3 * o + 0] = (float)(sum.x * inv_spp);
+    out[3 * o + 1] = (float)(sum.y * inv_spp);
+    out[3 * o + 2] = (float)(sum.z * inv_spp);
+#else
+    out[3 * o + 0] = sum.x / (float)max(fp.spp, 1);
+    out[3 * o + 1] = sum.y / (float)max(fp.spp, 1);
+    out[3 * o + 2] = sum.z / (float)max(fp.spp, 1);
+#endif
+    counters[2 * o] = rays;
+    counters[2 * o + 1] = nonfinite;
+}
