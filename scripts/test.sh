@@ -8,7 +8,9 @@ jobs="$(nproc)"
 "$root/scripts/install_deps.sh"
 
 echo "== build (Release, -Werror)"
-"$root/scripts/build.sh" "$root/build/ci" -DPATHFARM_WERROR=ON -DPATHFARM_BUILD_TESTS=ON
+# Strict: Embree and OpenCL (PoCL) must be found, so that their tests cannot silently vanish.
+"$root/scripts/build.sh" "$root/build/ci" -DPATHFARM_WERROR=ON -DPATHFARM_BUILD_TESTS=ON \
+  -DPATHFARM_STRICT_OPTIONS=ON
 echo "== tests"
 ctest --test-dir "$root/build/ci" -j "$jobs" --output-on-failure --timeout 120
 

@@ -261,7 +261,11 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     d.features = p.features;
     d.own_bvhs = p.meshes_with_own_bvh;
     d.has_scene = true;
-    spdlog::debug("opencl backend: scene uploaded, {} bytes", d.upload.total());
+    std::string parts;
+    for (const auto& [name, bytes] : d.upload.bytes)
+        if (bytes > 0) parts += fmt::format(" {}={}", name, bytes);
+    spdlog::debug("opencl backend: uploaded {} bytes ({} ), {} meshes with the tracer's own BVH",
+                  d.upload.total(), parts, d.own_bvhs);
     return {};
 }
 
