@@ -5,12 +5,14 @@ For each benchmark scene it makes (and caches in bench/cache/) a converged refer
 high spp, renders with increasing samples per pixel (and, in the full run, increasing time
 budgets), and records render seconds, RMSE, relative MSE (squared error over the reference's
 squared value plus 1e-2) and efficiency = 1 / (relMSE x seconds). Variants side by side in one
-run: MIS vs light sampling only vs BSDF sampling only, pathfarm-render vs the farm (two
-1-thread tracers). Writes bench/results/time_vs_error_scenes.csv, time_to_rel_mse.csv and one
+run: MIS vs light sampling only vs BSDF sampling only, the loop specialised for the scene's
+features vs the generic one ("generic"), the Embree backend vs the OpenCL backend on PoCL
+("opencl", MIS), pathfarm-render vs the farm (two 1-thread tracers). Writes bench/results/time_vs_error_scenes.csv, time_to_rel_mse.csv and one
 log-log plot per scene (time_vs_error_<scene>.png).
 
 --quick (CI): two small scenes at 96x54, a 256-spp reference, up to 16 spp; fails if MIS's
-relative MSE does not fall at least 4x from 1 to 16 spp.
+(or OpenCL's) relative MSE does not fall at least 4x from 1 to 16 spp.
+--variants a,b --merge: run only those variants and replace their rows in the existing CSV.
 """
 import argparse
 import csv
@@ -36,6 +38,14 @@ FULL_SCENES = [
 ]
 QUICK_SCENES = [("cornell", "builtin:cornell"), ("glass", "builtin:glass")]
 FARM_SCENES = {"cornell", "default", "sponza"}
+# Variant -> pathfarm-render arguments. The specialised loop is the default (--kernel).
+VARIANTS = {
+    "mis": ["--strategy", "mis"],
+    "light": ["--strategy", "light"],
+    "bsdf": ["--strategy", "bsdf"],
+    "generic": ["--strategy", "mis", "--kernel", "generic"],
+    "opencl": ["--strategy", "mis", "--backend", "opencl"],
+}
 
 
 def render(a, scene, extra):
@@ -147,7 +157,14 @@ def main():
     p.add_argument("--scenes", default="", help="comma-separated subset of the scene names")
     p.add_argument("--farm-only", action="store_true",
                    help="recompute only the farm rows of an existing time_vs_error_scenes.csv")
+    p.add_argument("--variants", default=",".join(VARIANTS), help="comma-separated subset of: " + ",".join(VARIANTS))
+    p.add_argument("--merge", action="store_true",
+                   help="replace only the rows of --variants in an existing time_vs_error_scenes.csv")
     a = p.parse_args()
+    variants = [v for v in a.variants.split(",") if v]
+    if any(v not in VARIANTS for v in variants):
+        sys.exit(f"time_vs_error: --variants {a.variants}: unknown variant (known: {','.join(VARIANTS)})")
+    os.environ.setdefault("POCL_CACHE_DIR", os.path.join(a.cache, "pocl"))
     a.width, a.height = (96, 54) if a.quick else (320, 180)
     a.ref_spp = 256 if a.quick else 2048
     max_log2 = 4 if a.quick else 8
@@ -164,16 +181,18 @@ def main():
         ref = reference(a, name, scene)
         image = os.path.join(work, "image.pfm")
         series = {}
-        for variant in ("mis", "light", "bsdf"):
+        if "opencl" in variants:  # PoCL builds the kernels once (cached), before timing
+            render(a, scene, ["--spp", "1", "--out", image, *VARIANTS["opencl"]])
+        for variant in variants:
             for k in range(max_log2 + 1):
                 spp = 2 ** k
-                r = render(a, scene, ["--spp", str(spp), "--strategy", variant, "--out", image])
+                r = render(a, scene, ["--spp", str(spp), "--out", image, *VARIANTS[variant]])
                 rmse, rel = errors(image, ref)
                 rows.append([name, variant, spp, r["seconds"], rmse, rel, 1.0 / (rel * r["seconds"])])
                 series.setdefault(variant, []).append((r["seconds"], rel))
             print(f"{name} {variant}: rel_mse {series[variant][0][1]:.4g} at 1 spp, "
                   f"{series[variant][-1][1]:.4g} at {2 ** max_log2} spp", flush=True)
-        if not a.quick:
+        if not a.quick and not a.merge:
             for budget in (0.5, 1.0, 2.0, 4.0, 8.0):  # pathfarm-render --seconds: doubling passes
                 r = render(a, scene, ["--seconds", str(budget), "--out", image])
                 rmse, rel = errors(image, ref)
@@ -183,18 +202,40 @@ def main():
                 for spp in (4, 16):
                     seconds, rmse, rel = farm_point(a, scene, spp, ref, work)
                     rows.append([name, "farm-2x1", spp, seconds, rmse, rel, 1.0 / (rel * seconds)])
-        for target in (1e-2, 1e-3):
-            t = crossing(series["mis"], target)
-            reached.append([name, target, round(t, 4) if t else f"not reached in {2 ** max_log2} spp"])
-        if series["mis"][-1][1] * 4 > series["mis"][0][1]:
-            failures.append(f"{name}: MIS rel_mse {series['mis'][0][1]:.4g} -> {series['mis'][-1][1]:.4g}")
+        for variant in series:
+            for target in (1e-2, 1e-3):
+                t = crossing(series[variant], target)
+                reached.append([name, variant, target, round(t, 4) if t else f"not reached in {2 ** max_log2} spp"])
+        for variant in ("mis", "opencl"):
+            if variant in series and series[variant][-1][1] * 4 > series[variant][0][1]:
+                failures.append(f"{name}: {variant} rel_mse {series[variant][0][1]:.4g} -> {series[variant][-1][1]:.4g}")
+        # Same images (same random numbers), so the time ratio at equal spp is the ratio at equal error.
+        for variant, base in (("generic", "mis"), ("opencl", "mis")):
+            if variant in series and base in series:
+                ratios = [t / b for (t, _), (b, _) in zip(series[variant], series[base])][max_log2 // 2:]
+                print(f"{name}: {variant} time / {base} time at equal spp (>= {2 ** (max_log2 // 2)} spp): "
+                      f"median {sorted(ratios)[len(ratios) // 2]:.3f}", flush=True)
     header = ["scene", "variant", "spp", "seconds", "rmse", "rel_mse", "efficiency"]
-    write_csv(os.path.join(a.out, "time_vs_error_scenes.csv"), header, rows)
-    write_csv(os.path.join(a.out, "time_to_rel_mse.csv"), ["scene", "target_rel_mse", "seconds"], reached)
-    print("scene,target_rel_mse,seconds")
+    reached_header = ["scene", "variant", "target_rel_mse", "seconds"]
+    csv_path = os.path.join(a.out, "time_vs_error_scenes.csv")
+    reached_path = os.path.join(a.out, "time_to_rel_mse.csv")
+    if a.merge:  # keep the rows of the variants (and scenes) not re-run
+        done = {(r[0], r[1]) for r in rows}
+        with open(csv_path) as f:
+            old_rows = [r for r in list(csv.reader(f))[1:] if (r[0], r[1]) not in done]
+        rows = old_rows + rows
+        with open(reached_path) as f:
+            old_reached = [r for r in list(csv.reader(f))[1:] if (r[0], r[1]) not in done]
+        reached = old_reached + reached
+        order = [n for n, _ in FULL_SCENES]
+        rows.sort(key=lambda r: order.index(r[0]) if r[0] in order else len(order))
+        reached.sort(key=lambda r: order.index(r[0]) if r[0] in order else len(order))
+    write_csv(csv_path, header, rows)
+    write_csv(reached_path, reached_header, reached)
+    print(",".join(reached_header))
     for r in reached:
         print(",".join(map(str, r)))
-    plot(a, scenes, rows)
+    plot(a, [s for s in FULL_SCENES if any(r[0] == s[0] for r in rows)] if a.merge else scenes, rows)
     if failures:
         sys.exit("time_vs_error: error does not fall with samples: " + "; ".join(failures))
 

@@ -24,7 +24,8 @@ Rgb mean_emission_texel(const Image* image) {
 
 }  // namespace
 
-LightSampler::LightSampler(const ShadingScene& shading) : shading_(shading) {
+LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded)
+    : shading_(shading) {
     const SceneModel& scene = shading.model();
     instance_offset_.assign(scene.instances.size(), -1);
     std::vector<double> power;
@@ -32,6 +33,7 @@ LightSampler::LightSampler(const ShadingScene& shading) : shading_(shading) {
         const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
         const Material& mat = scene.materials[mesh.material];
         if (!mat.is_emissive() || mesh.triangle_count() == 0) continue;
+        if (i < excluded.size() && excluded[i]) continue;
         const Rgb mean =
             mat.emission() * mean_emission_texel(scene.texture_image(mat.emissive_texture));
         const float sides = mat.double_sided ? 2.0f : 1.0f;

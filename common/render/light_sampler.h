@@ -22,7 +22,9 @@ struct LightSample {
 
 class LightSampler {
 public:
-    explicit LightSampler(const ShadingScene& shading);
+    // Instances flagged in `excluded` (indexed like SceneModel::instances) are not sampled:
+    // emitters that cannot contribute (SealedEmitters).
+    explicit LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded = {});
 
     bool empty() const { return triangles_.empty() && !sun_sky_; }
     // Samples a light as seen from receiver point `from`. u_select chooses, u positions.

@@ -27,6 +27,9 @@ struct IntegratorSettings {
     // Use the path-tracing loop specialised for the scene's features (feature_mask below);
     // false: the generic loop that handles every feature. Both give the same image bit for bit.
     bool specialise = true;
+    // Do not sample emitters a closed opaque surface separates from the camera
+    // (SealedEmitters); false samples every emitter, for measuring what culling saves.
+    bool cull_sealed_lights = true;
 };
 
 // What a scene needs of the path-tracing loop. A loop instantiated without a feature leaves

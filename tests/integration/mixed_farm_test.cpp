@@ -51,7 +51,8 @@ TEST(MixedFarm, EmbreeAndOpenClRowsAreIndistinguishable) {
     farm.spp = 4;
     farm.start({"--frames", std::to_string(kFrames), "--min-tracers", "2"});
     farm.add_tracer("embree", {"--max-reconnects", "0", "--backend", "embree"});
-    farm.add_tracer("opencl", {"--max-reconnects", "0", "--backend", "opencl", "--log-level", "debug"});
+    farm.add_tracer("opencl",
+                    {"--max-reconnects", "0", "--backend", "opencl", "--log-level", "debug"});
     ASSERT_EQ(farm.finish(std::chrono::seconds(120)), 0);
 
     // The OpenCL tracer's first assignment per frame (an idle tracer may then take rows from the
@@ -98,13 +99,13 @@ TEST(MixedFarm, EmbreeAndOpenClRowsAreIndistinguishable) {
     }
     EXPECT_GT(opencl_rendered_rows, 5 * kFrames) << "rows that only OpenCL can have rendered";
     const auto band = test::compare_batches(band_farm, band_independent, kAlpha, 2);
-    EXPECT_TRUE(band.agree(kAlpha)) << "boundary band: min pixel p " << band.min_pixel_p
-                                    << " (threshold " << band.pixel_threshold << "), mean p "
-                                    << band.mean_p;
+    EXPECT_TRUE(band.agree(kAlpha))
+        << "boundary band: min pixel p " << band.min_pixel_p << " (threshold "
+        << band.pixel_threshold << "), mean p " << band.mean_p;
     const auto whole = test::compare_batches(whole_farm, whole_independent, kAlpha, 2);
-    EXPECT_TRUE(whole.agree(kAlpha)) << "whole frame: min pixel p " << whole.min_pixel_p
-                                     << " (threshold " << whole.pixel_threshold << "), mean p "
-                                     << whole.mean_p;
+    EXPECT_TRUE(whole.agree(kAlpha))
+        << "whole frame: min pixel p " << whole.min_pixel_p << " (threshold "
+        << whole.pixel_threshold << "), mean p " << whole.mean_p;
 
     // The OpenCL tracer traversed the coordinator's BVH: it built none of its own.
     const std::string log = test::read_file(farm.dir + "/opencl.log");

@@ -68,6 +68,9 @@ int main(int argc, char** argv) {
                    "Path-tracing loop: specialised (for the scene's features) or generic")
         ->capture_default_str()
         ->check(CLI::IsMember({"specialised", "generic"}));
+    bool no_light_culling = false;
+    app.add_flag("--no-light-culling", no_light_culling,
+                 "Also sample emitters that a closed surface separates from the camera");
     double time = 0.0;
     auto* time_option =
         app.add_option("--time", time, "Animated scenes: time of the clip's own timeline, seconds");
@@ -84,6 +87,7 @@ int main(int argc, char** argv) {
         {"bsdf", pathfarm::LightStrategy::bsdf_only}};
     o.strategy = strategies.at(strategy);
     o.specialise = kernel == "specialised";
+    o.cull_sealed_lights = !no_light_culling;
     if (time_option->count() > 0) o.time = time;
     if (!look_from.empty()) o.look_from = to_vec3(look_from);
     if (!look_at.empty()) o.look_at = to_vec3(look_at);

@@ -105,6 +105,7 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     job.integrator.max_depth = o.max_depth;
     job.integrator.strategy = o.strategy;
     job.integrator.specialise = o.specialise;
+    job.integrator.cull_sealed_lights = o.cull_sealed_lights;
     job.y0 = 0;
     job.y1 = o.height;
     FloatImage image(o.width, o.height), pass(o.width, o.height);

@@ -32,7 +32,8 @@ struct RenderToolOptions {
     int cl_device = 0;
     int max_depth = 8;
     LightStrategy strategy = LightStrategy::mis;
-    bool specialise = true;  // the path-tracing loop specialised for the scene's features
+    bool specialise = true;          // the path-tracing loop specialised for the scene's features
+    bool cull_sealed_lights = true;  // IntegratorSettings::cull_sealed_lights
     float exposure = 1.0f;
 };
 

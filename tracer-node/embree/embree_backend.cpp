@@ -5,12 +5,15 @@
 #include <atomic>
 #include <mutex>
 
+#include <spdlog/spdlog.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "common/base/timer.h"
+#include "common/math/transform.h"
+#include "common/render/sealed_emitters.h"
 #include "tracer-node/embree/embree_scene.h"
 
 namespace pathfarm::tracer {
@@ -36,8 +39,26 @@ public:
         if (!kernel) return kernel.error();
         kernel_ = std::move(kernel.value());
         shading_ = std::make_unique<ShadingScene>(scene);
+        sealed_ = std::make_unique<SealedEmitters>(scene);
+        excluded_.clear();
         lights_ = std::make_unique<LightSampler>(*shading_);
         return {};
+    }
+
+    // Emitters a closed surface separates from this frame's camera are left out of the light
+    // sampler; it is rebuilt only when that set changes.
+    void update_lights(const RenderJob& job) {
+        std::vector<bool> excluded;
+        if (job.integrator.cull_sealed_lights && sealed_->enclosure_count() > 0)
+            excluded =
+                sealed_->culled(transform_point(job.frame.camera.camera_to_world, Vec3(0.0f)));
+        if (excluded == excluded_) return;
+        excluded_ = std::move(excluded);
+        lights_ = std::make_unique<LightSampler>(*shading_, excluded_);
+        spdlog::debug(
+            "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
+            "surface(s))",
+            std::count(excluded_.begin(), excluded_.end(), true), sealed_->enclosure_count());
     }
 
     Result<RenderStats> render_rows(const RenderJob& job, float* out) override {
@@ -49,6 +70,7 @@ public:
             return make_error(ErrorCode::invalid_argument,
                               "embree backend: rows [{}, {}) outside a {}x{} frame", job.y0, job.y1,
                               f.width, f.height);
+        update_lights(job);
         const PathTracer tracer(*shading_, *lights_, *kernel_, job.integrator);
         tbb::enumerable_thread_specific<SampleCounters> counters;
         const Timer timer;
@@ -76,6 +98,8 @@ private:
     tbb::task_arena arena_;
     std::unique_ptr<EmbreeScene> kernel_;
     std::unique_ptr<ShadingScene> shading_;
+    std::unique_ptr<SealedEmitters> sealed_;
+    std::vector<bool> excluded_;  // instances the light sampler leaves out
     std::unique_ptr<LightSampler> lights_;
 };
 

@@ -91,9 +91,12 @@ Bounds3f instance_bounds(const BvhNode& root, const Mat4& transform) {
     return b;
 }
 
-void pack_lights(const SceneModel& scene, PackedScene& out) {
+}  // namespace
+
+void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded, PackedScene& out) {
     const ShadingScene shading(scene);
-    const LightSampler lights(shading);
+    const LightSampler lights(shading, excluded);
+    out.lights.clear();
     out.features = scene_features(shading, lights);
     const auto& cdf = lights.cdf();
     for (std::size_t k = 0; k < lights.triangles().size(); ++k) {
@@ -132,8 +135,6 @@ void pack_lights(const SceneModel& scene, PackedScene& out) {
         g.theta_sun = p.theta_sun;
     }
 }
-
-}  // namespace
 
 const Bvh& LocalBvhCache::get(std::size_t mesh_index, const Mesh& mesh) {
     const uint64_t content = mesh_geometry_hash(mesh);
@@ -262,7 +263,7 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
         pt.wrap_t = uint32_t(t.sampler.wrap_t);
         out.textures.push_back(pt);
     }
-    pack_lights(scene, out);
+    pack_lights(scene, {}, out);
     return out;
 }
 

@@ -10,6 +10,8 @@
 #include <CL/opencl.hpp>
 
 #include "common/base/timer.h"
+#include "common/math/transform.h"
+#include "common/render/sealed_emitters.h"
 #include "tracer-node/opencl/cl_errors.h"
 #include "tracer-node/opencl/device_scene.h"
 
@@ -193,6 +195,11 @@ struct OpenClBackend::Impl {
     uint32_t features = kAllFeatures;
     std::size_t own_bvhs = 0;
     UploadStats upload;
+    // For re-packing the lights when the camera's side of a closed surface changes.
+    const SceneModel* scene = nullptr;
+    std::unique_ptr<SealedEmitters> sealed;
+    std::vector<bool> excluded;
+    PackedScene light_state;  // instances, lights and globals as last uploaded
     // Scene buffers, in kernel argument order after the frame parameters.
     DeviceArray positions, normals, uvs, tangents, indices, meshes, instances, nodes, prims,
         top_nodes, top_prims, materials, textures, texels, lights, globals;
@@ -261,6 +268,11 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     d.features = p.features;
     d.own_bvhs = p.meshes_with_own_bvh;
     d.has_scene = true;
+    d.scene = &scene;
+    d.sealed = std::make_unique<SealedEmitters>(scene);
+    d.excluded.clear();
+    d.light_state.instances = p.instances;
+    d.light_state.globals = p.globals;
     std::string parts;
     for (const auto& [name, bytes] : d.upload.bytes)
         if (bytes > 0) parts += fmt::format(" {}={}", name, bytes);
@@ -281,6 +293,7 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
     RenderStats stats;
     if (job.y0 == job.y1) return stats;
     const Timer timer;
+    if (Status s = update_lights(job); !s) return s.error();
     const uint32_t variant = job.integrator.specialise ? d.features : uint32_t(kAllFeatures);
     auto kernel = d.kernel(variant);
     if (!kernel) return kernel.error();
@@ -345,6 +358,30 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
     stats.counters.camera_samples = uint64_t(pixels) * uint64_t(fp.spp);
     stats.seconds = timer.seconds();
     return stats;
+}
+
+// Emitters a closed surface separates from this frame's camera leave the light arrays (as in
+// the Embree backend); the arrays are re-packed and diff-uploaded only when that set changes.
+Status OpenClBackend::update_lights(const RenderJob& job) {
+    Impl& d = *impl_;
+    std::vector<bool> excluded;
+    if (job.integrator.cull_sealed_lights && d.sealed->enclosure_count() > 0)
+        excluded = d.sealed->culled(transform_point(job.frame.camera.camera_to_world, Vec3(0.0f)));
+    if (excluded == d.excluded) return {};
+    d.excluded = std::move(excluded);
+    pack_lights(*d.scene, d.excluded, d.light_state);
+    spdlog::debug(
+        "opencl backend: {} emissive instance(s) sealed off from the camera ({} closed "
+        "surface(s))",
+        std::count(d.excluded.begin(), d.excluded.end(), true), d.sealed->enclosure_count());
+    const std::vector<PfSceneGlobals> globals{d.light_state.globals};
+    for (Status s : {d.upload_array("lights", d.lights, d.light_state.lights),
+                     d.upload_array("instances", d.instances, d.light_state.instances),
+                     d.upload_array("globals", d.globals, globals)})
+        if (!s) return s;
+    if (const cl_int err = d.queue.finish(); err != CL_SUCCESS)
+        return cl_failure("uploading the lights", err);
+    return {};
 }
 
 Result<std::unique_ptr<OpenClBackend>> make_opencl_backend(const BackendOptions& options) {

@@ -36,6 +36,7 @@ public:
 
 private:
     explicit OpenClBackend(std::unique_ptr<Impl> impl);
+    Status update_lights(const RenderJob& job);
     friend Result<std::unique_ptr<OpenClBackend>> make_opencl_backend(const BackendOptions&);
     std::unique_ptr<Impl> impl_;
 };

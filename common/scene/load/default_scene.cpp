@@ -147,7 +147,7 @@ SceneModel make_default_scene() {
 }
 
 std::vector<std::string> builtin_scene_names() {
-    return {"cornell", "default", "glass", "many-lights"};
+    return {"cornell", "default", "glass", "many-lights", "sealed-lights"};
 }
 
 Result<SceneModel> make_builtin_scene(const std::string& name) {
@@ -155,9 +155,10 @@ Result<SceneModel> make_builtin_scene(const std::string& name) {
     if (name == "default") return make_default_scene();
     if (name == "glass") return make_glass_scene();
     if (name == "many-lights") return make_many_lights_scene();
+    if (name == "sealed-lights") return make_sealed_lights_scene();
     return make_error(ErrorCode::not_found,
                       "builtin:{}: no such built-in scene (known: cornell, default, glass, "
-                      "many-lights)",
+                      "many-lights, sealed-lights)",
                       name);
 }
 

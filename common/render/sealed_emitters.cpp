@@ -1,0 +1,194 @@
+// Closed-surface detection by edge counting over welded world vertices, and inside/outside by
+// ray parity (in double, retried in other directions when a ray grazes an edge).
+#include "common/render/sealed_emitters.h"
+
+#include <algorithm>
+#include <bit>
+#include <numeric>
+#include <unordered_map>
+
+#include "common/math/transform.h"
+
+namespace pathfarm {
+namespace {
+
+struct VertexKey {
+    uint32_t x, y, z;
+    bool operator==(const VertexKey&) const = default;
+};
+struct VertexKeyHash {
+    std::size_t operator()(const VertexKey& k) const {
+        return (std::size_t(k.x) * 0x9e3779b97f4a7c15ULL) ^
+               (std::size_t(k.y) * 0xc2b2ae3d27d4eb4fULL) ^
+               (std::size_t(k.z) * 0x165667b19e3779f9ULL);
+    }
+};
+
+// +0 and -0 are one position.
+VertexKey key_of(const Vec3& p) {
+    auto bits = [](float f) { return std::bit_cast<uint32_t>(f == 0.0f ? 0.0f : f); };
+    return {bits(p.x), bits(p.y), bits(p.z)};
+}
+
+struct UnionFind {
+    std::vector<uint32_t> parent;
+    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+    uint32_t find(uint32_t a) {
+        while (parent[a] != a)
+            a = parent[a] = parent[parent[a]];
+        return a;
+    }
+    void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
+};
+
+bool is_opaque_occluder(const Material& m) {
+    return !(m.transmission_factor > 0.0f) && !m.is_emissive();
+}
+
+// Ray-triangle crossing in double. Returns 1 for a clean crossing at t > 0, 0 for a miss, -1
+// when the ray passes within rounding of an edge or vertex or starts on the triangle.
+int crossing(const glm::dvec3& o, const glm::dvec3& d, const Vec3& a, const Vec3& b,
+             const Vec3& c) {
+    const glm::dvec3 p0(a), e1 = glm::dvec3(b) - p0, e2 = glm::dvec3(c) - p0;
+    const glm::dvec3 pv = glm::cross(d, e2);
+    const double det = glm::dot(e1, pv);
+    const double scale = glm::length(e1) * glm::length(e2);
+    if (std::abs(det) <= 1e-12 * scale) return 0;  // parallel: the plane is not crossed
+    const glm::dvec3 tv = o - p0;
+    const double u = glm::dot(tv, pv) / det;
+    const glm::dvec3 qv = glm::cross(tv, e1);
+    const double v = glm::dot(d, qv) / det;
+    const double t = glm::dot(e2, qv) / det;
+    constexpr double kEps = 1e-9;
+    if (u < -kEps || v < -kEps || u + v > 1.0 + kEps) return 0;
+    if (u < kEps || v < kEps || u + v > 1.0 - kEps || std::abs(t) < 1e-9) return -1;
+    return t > 0.0 ? 1 : 0;
+}
+
+}  // namespace
+
+SealedEmitters::Side SealedEmitters::side_of(const Enclosure& e, const Vec3& p) {
+    if (!is_finite(p)) return Side::unknown;
+    if (p.x < e.bounds.lower.x || p.y < e.bounds.lower.y || p.z < e.bounds.lower.z ||
+        p.x > e.bounds.upper.x || p.y > e.bounds.upper.y || p.z > e.bounds.upper.z)
+        return Side::outside;
+    static const glm::dvec3 kDirections[] = {
+        {0.5773, 0.5774, 0.5773}, {-0.3122, 0.8915, -0.3281}, {0.7071, -0.1234, -0.6963}};
+    for (const glm::dvec3& dir : kDirections) {
+        const glm::dvec3 d = glm::normalize(dir);
+        int count = 0;
+        bool clean = true;
+        for (std::size_t t = 0; t + 2 < e.triangles.size() && clean; t += 3) {
+            const int c =
+                crossing(glm::dvec3(p), d, e.triangles[t], e.triangles[t + 1], e.triangles[t + 2]);
+            if (c < 0) clean = false;
+            count += c > 0;
+        }
+        if (clean) return count % 2 == 1 ? Side::inside : Side::outside;
+    }
+    return Side::unknown;
+}
+
+SealedEmitters::SealedEmitters(const SceneModel& scene) : instance_count_(scene.instances.size()) {
+    // World triangles of opaque occluders.
+    std::vector<Vec3> tris;
+    for (const Instance& inst : scene.instances) {
+        const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
+        const Material& m = scene.materials[std::size_t(std::max(mesh.material, 0))];
+        if (!is_opaque_occluder(m)) continue;
+        if (tris.size() / 3 + mesh.triangle_count() > kMaxTriangles) return;
+        for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k)
+                tris.push_back(
+                    transform_point(inst.transform, mesh.positions[mesh.indices[3 * t + k]]));
+    }
+    const std::size_t n = tris.size() / 3;
+    if (n == 0) return;
+    std::unordered_map<VertexKey, uint32_t, VertexKeyHash> vertex_ids;
+    std::vector<uint32_t> ids(tris.size());
+    for (std::size_t i = 0; i < tris.size(); ++i)
+        ids[i] = vertex_ids.emplace(key_of(tris[i]), uint32_t(vertex_ids.size())).first->second;
+    // Undirected edge -> (triangles using it, one of them).
+    std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> edges;
+    UnionFind components(n);
+    std::vector<bool> degenerate(n, false);
+    for (uint32_t t = 0; t < n; ++t) {
+        const uint32_t v[3] = {ids[3 * t], ids[3 * t + 1], ids[3 * t + 2]};
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+            degenerate[t] = true;  // welded away: it neither closes nor opens a surface
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = std::min(v[k], v[(k + 1) % 3]), b = std::max(v[k], v[(k + 1) % 3]);
+            auto [it, added] = edges.try_emplace((uint64_t(a) << 32) | b, 0u, t);
+            ++it->second.first;
+            if (!added) components.unite(t, it->second.second);
+        }
+    }
+    // A component is closed when each of its edges is used by exactly two triangles.
+    std::vector<uint8_t> open(n, 0);
+    for (const auto& [edge, use] : edges)
+        if (use.first != 2) open[components.find(use.second)] = 1;
+    std::unordered_map<uint32_t, std::size_t> enclosure_of_root;
+    for (uint32_t t = 0; t < n; ++t) {
+        if (degenerate[t]) continue;
+        const uint32_t root = components.find(t);
+        if (open[root]) continue;
+        auto [it, added] = enclosure_of_root.try_emplace(root, enclosures_.size());
+        if (added) enclosures_.emplace_back();
+        Enclosure& e = enclosures_[it->second];
+        for (int k = 0; k < 3; ++k) {
+            e.triangles.push_back(tris[3 * t + k]);
+            e.bounds.extend(tris[3 * t + k]);
+        }
+    }
+    // Emissive instances: inside when every vertex, nudged towards its triangle's centre and off
+    // its front face (panels are often flush with a wall), is inside.
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& inst = scene.instances[i];
+        const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
+        if (!scene.materials[std::size_t(std::max(mesh.material, 0))].is_emissive() ||
+            mesh.triangle_count() == 0)
+            continue;
+        for (Enclosure& e : enclosures_) {
+            Side side = Side::unknown;
+            // Bound the parity tests' cost; an emitter left unknown is never culled.
+            if (double(mesh.triangle_count()) * 3.0 * double(e.triangles.size() / 3) > 5e7) {
+                e.emitters.emplace_back(i, Side::unknown);
+                continue;
+            }
+            for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+                Vec3 p[3];
+                for (int k = 0; k < 3; ++k)
+                    p[k] = transform_point(inst.transform, mesh.positions[mesh.indices[3 * t + k]]);
+                const Vec3 centre = (p[0] + p[1] + p[2]) / 3.0f;
+                const Vec3 normal = glm::cross(p[1] - p[0], p[2] - p[0]);
+                const float len = glm::length(normal);
+                const float size =
+                    std::max({glm::length(p[1] - p[0]), glm::length(p[2] - p[0]), 1e-6f});
+                const Vec3 off = len > 0.0f ? normal / len * (1e-3f * size) : Vec3(0.0f);
+                Side tri_side = Side::unknown;
+                for (int k = 0; k < 3; ++k) {
+                    const Side s = side_of(e, glm::mix(p[k], centre, 0.01f) + off);
+                    tri_side = k == 0 ? s : (s == tri_side ? s : Side::unknown);
+                }
+                side = t == 0 ? tri_side : (tri_side == side ? side : Side::unknown);
+                if (side == Side::unknown) break;
+            }
+            e.emitters.emplace_back(i, side);
+        }
+    }
+}
+
+std::vector<bool> SealedEmitters::culled(const Vec3& viewer) const {
+    std::vector<bool> out(instance_count_, false);
+    for (const Enclosure& e : enclosures_) {
+        const Side v = side_of(e, viewer);
+        if (v == Side::unknown) continue;
+        for (const auto& [instance, side] : e.emitters)
+            if (side != Side::unknown && side != v) out[instance] = true;
+    }
+    return out;
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,44 @@
+// Emitters in unreachable rooms: an emissive instance that a closed, opaque surface separates
+// from the viewer cannot light anything the viewer sees (light cannot cross the surface), so
+// next-event estimation should not spend samples on it (DESIGN.md, "skip what a scene doesn't
+// need"). The test is conservative: whenever closedness or inside/outside is in doubt, the
+// emitter stays.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "common/scene/scene_model.h"
+
+namespace pathfarm {
+
+class SealedEmitters {
+public:
+    // Above this many opaque triangles the analysis is skipped (no emitter is ever culled):
+    // it runs whenever a backend gets a new scene state.
+    static constexpr std::size_t kMaxTriangles = 300000;
+
+    // Finds closed surfaces: connected sets of opaque, non-emissive triangles (across instances,
+    // vertices welded by exact world position) in which every edge joins exactly two
+    // triangles; and which emissive instances lie inside each.
+    explicit SealedEmitters(const SceneModel& scene);
+
+    // Per instance: true for an emissive instance separated from `viewer` by a closed surface
+    // (inside one the viewer is outside of, or outside one the viewer is inside).
+    std::vector<bool> culled(const Vec3& viewer) const;
+    std::size_t enclosure_count() const { return enclosures_.size(); }
+
+private:
+    enum class Side : uint8_t { inside, outside, unknown };
+    struct Enclosure {
+        std::vector<Vec3> triangles;  // three world positions per triangle
+        Bounds3f bounds;
+        std::vector<std::pair<uint32_t, Side>> emitters;  // emissive instance, its side
+    };
+    static Side side_of(const Enclosure& e, const Vec3& p);
+
+    std::size_t instance_count_ = 0;
+    std::vector<Enclosure> enclosures_;
+};
+
+}  // namespace pathfarm
