@@ -1,6 +1,8 @@
 // Test render helpers.
 #include "tests/support/render_helpers.h"
 
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -89,6 +91,14 @@ double welch_p(const Moments& a, const Moments& b) {
 
 double student_t_p_value(double t, double dof) {
     return incomplete_beta(0.5 * dof, 0.5, dof / (dof + t * t));
+}
+
+tracer::BackendKind default_backend() {
+    const char* name = std::getenv("PATHFARM_TEST_BACKEND");
+    if (name == nullptr || *name == '\0') return tracer::BackendKind::embree;
+    auto kind = tracer::parse_backend_kind(name);
+    EXPECT_TRUE(kind.ok()) << "PATHFARM_TEST_BACKEND=" << name;
+    return kind.ok() ? *kind : tracer::BackendKind::embree;
 }
 
 FloatImage render(const SceneModel& scene, const RenderRequest& r) {

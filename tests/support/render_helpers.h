@@ -11,6 +11,10 @@
 
 namespace pathfarm::test {
 
+// The backend test renders use unless a test names one: Embree, or the one named by the
+// PATHFARM_TEST_BACKEND environment variable (ctest runs the stress suite again with "opencl").
+tracer::BackendKind default_backend();
+
 struct RenderRequest {
     int width = 32;
     int height = 32;
@@ -20,7 +24,7 @@ struct RenderRequest {
     int threads = 2;
     IntegratorSettings integrator;
     std::vector<int> row_splits;  // render [0,s0), [s0,s1), ... [sN,height) separately
-    tracer::BackendKind backend = tracer::BackendKind::embree;
+    tracer::BackendKind backend = default_backend();
 };
 
 // Renders with the requested backend (Embree by default); fails the test (and returns an

@@ -242,7 +242,9 @@ std::string OpenClBackend::device_name() const { return impl_->shared->name; }
 
 Status OpenClBackend::set_scene(const SceneModel& scene) {
     Impl& d = *impl_;
+    const Timer timer;
     const PackedScene p = pack_scene(scene, d.provided_bvhs, d.bvh_cache);
+    const double pack_ms = timer.milliseconds();
     d.provided_bvhs.clear();  // views are valid for this call only
     d.upload = {};
     const std::vector<PfSceneGlobals> globals{p.globals};
@@ -276,8 +278,10 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     std::string parts;
     for (const auto& [name, bytes] : d.upload.bytes)
         if (bytes > 0) parts += fmt::format(" {}={}", name, bytes);
-    spdlog::debug("opencl backend: uploaded {} bytes ({} ), {} meshes with the tracer's own BVH",
-                  d.upload.total(), parts, d.own_bvhs);
+    spdlog::debug(
+        "opencl backend: uploaded {} bytes ({} ) in {:.1f} ms (packing {:.1f} ms), {} "
+        "meshes with the tracer's own BVH",
+        d.upload.total(), parts, timer.milliseconds(), pack_ms, d.own_bvhs);
     return {};
 }
 
