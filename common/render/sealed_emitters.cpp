@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <bit>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
+#include "common/base/hash.h"
 #include "common/math/transform.h"
 
 namespace pathfarm {
@@ -89,7 +91,48 @@ SealedEmitters::Side SealedEmitters::side_of(const Enclosure& e, const Vec3& p) 
     return Side::unknown;
 }
 
+uint64_t SealedEmitters::geometry_hash(const SceneModel& scene) {
+    uint64_t h = fnv1a64(nullptr, 0);
+    auto add = [&h](const void* data, std::size_t size) {
+        h = fnv1a64(static_cast<const unsigned char*>(data), size, h);
+    };
+    for (const Mesh& m : scene.meshes) {
+        add(m.positions.data(), m.positions.size() * sizeof(Vec3));
+        add(m.indices.data(), m.indices.size() * sizeof(uint32_t));
+        add(&m.material, sizeof m.material);
+    }
+    for (const Material& m : scene.materials) {
+        const uint8_t flags = uint8_t(is_opaque_occluder(m)) | uint8_t(m.is_emissive() << 1);
+        add(&flags, 1);
+    }
+    for (const Instance& inst : scene.instances)
+        add(&inst.mesh, sizeof inst.mesh);
+    return h;
+}
+
+bool SealedEmitters::adopt_translated(const SceneModel& scene) {
+    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
+        return false;
+    std::optional<glm::dvec3> delta;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Mat4& m = scene.instances[i].transform;
+        if (Mat3(m) != linear_[i]) return false;
+        const glm::dvec3 d = glm::dvec3(Vec3(m[3])) - translation_[i];
+        if (!delta) delta = d;
+        // Camera-relative shifts are computed in double and rounded to float per instance.
+        const double tolerance = 1e-6 * (1.0 + glm::length(glm::dvec3(Vec3(m[3]))));
+        if (glm::length(d - *delta) > tolerance) return false;
+    }
+    shift_ = delta.value_or(glm::dvec3(0.0));
+    return true;
+}
+
 SealedEmitters::SealedEmitters(const SceneModel& scene) : instance_count_(scene.instances.size()) {
+    geometry_hash_ = geometry_hash(scene);
+    for (const Instance& inst : scene.instances) {
+        linear_.push_back(Mat3(inst.transform));
+        translation_.push_back(glm::dvec3(Vec3(inst.transform[3])));
+    }
     // World triangles of opaque occluders.
     std::vector<Vec3> tris;
     for (const Instance& inst : scene.instances) {
@@ -180,8 +223,9 @@ SealedEmitters::SealedEmitters(const SceneModel& scene) : instance_count_(scene.
     }
 }
 
-std::vector<bool> SealedEmitters::culled(const Vec3& viewer) const {
+std::vector<bool> SealedEmitters::culled(const Vec3& viewer_now) const {
     std::vector<bool> out(instance_count_, false);
+    const Vec3 viewer(glm::dvec3(viewer_now) - shift_);  // in the analysed scene's coordinates
     for (const Enclosure& e : enclosures_) {
         const Side v = side_of(e, viewer);
         if (v == Side::unknown) continue;

@@ -28,6 +28,12 @@ public:
     std::vector<bool> culled(const Vec3& viewer) const;
     std::size_t enclosure_count() const { return enclosures_.size(); }
 
+    // Whether `scene` is the analysed scene moved as a whole by one translation (what
+    // camera-relative rendering does to every instance when the camera moves); if so the
+    // analysis is kept and culled() takes viewers in the moved scene's coordinates. Costs a
+    // pass over the meshes' bytes instead of a new analysis.
+    bool adopt_translated(const SceneModel& scene);
+
 private:
     enum class Side : uint8_t { inside, outside, unknown };
     struct Enclosure {
@@ -37,8 +43,16 @@ private:
     };
     static Side side_of(const Enclosure& e, const Vec3& p);
 
+    static uint64_t geometry_hash(const SceneModel& scene);
+
     std::size_t instance_count_ = 0;
     std::vector<Enclosure> enclosures_;
+    // What adopt_translated() compares: geometry and materials, the instances' linear parts,
+    // and their translations (in double, as the analysed scene had them).
+    uint64_t geometry_hash_ = 0;
+    std::vector<Mat3> linear_;
+    std::vector<glm::dvec3> translation_;
+    glm::dvec3 shift_{0.0};  // added to the analysed scene's coordinates by adopt_translated
 };
 
 }  // namespace pathfarm

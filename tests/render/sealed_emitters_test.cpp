@@ -98,6 +98,29 @@ TEST(SealedEmitters, OpeningsGlassAndGapsKeepEveryEmitter) {
     }
 }
 
+TEST(SealedEmitters, KeepsTheAnalysisWhenTheWholeSceneIsTranslated) {
+    // What camera-relative rendering does when the camera moves: every instance shifts by the
+    // same vector. The analysis is adopted, and viewers are taken in the new coordinates.
+    const SceneModel scene = make_sealed_lights_scene();
+    SealedEmitters sealed(scene);
+    const Vec3 shift(-0.3f, -1.4f, -1.8f);
+    SceneModel moved = scene;
+    for (Instance& inst : moved.instances)
+        inst.transform = glm::translate(Mat4(1.0f), shift) * inst.transform;
+    ASSERT_TRUE(sealed.adopt_translated(moved));
+    EXPECT_EQ(sealed.culled(eye(scene) + shift), SealedEmitters(scene).culled(eye(scene)));
+    EXPECT_EQ(sealed.culled(Vec3(5.0f, 1.5f, 0.0f) + shift),
+              SealedEmitters(scene).culled(Vec3(5.0f, 1.5f, 0.0f)));
+
+    SceneModel one_moved = scene;
+    one_moved.instances[0].transform =
+        glm::translate(Mat4(1.0f), Vec3(0.5f, 0.0f, 0.0f)) * one_moved.instances[0].transform;
+    EXPECT_FALSE(SealedEmitters(scene).adopt_translated(one_moved));
+    SceneModel glass = scene;
+    glass.materials[0].transmission_factor = 1.0f;
+    EXPECT_FALSE(SealedEmitters(scene).adopt_translated(glass));
+}
+
 class SealedLightsRender : public ::testing::TestWithParam<tracer::BackendKind> {};
 
 TEST_P(SealedLightsRender, CullingEqualsTheSceneWithoutThoseEmitters) {

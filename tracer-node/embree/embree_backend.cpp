@@ -39,7 +39,8 @@ public:
         if (!kernel) return kernel.error();
         kernel_ = std::move(kernel.value());
         shading_ = std::make_unique<ShadingScene>(scene);
-        sealed_ = std::make_unique<SealedEmitters>(scene);
+        if (!sealed_ || !sealed_->adopt_translated(scene))  // a camera move keeps the analysis
+            sealed_ = std::make_unique<SealedEmitters>(scene);
         excluded_.clear();
         lights_ = std::make_unique<LightSampler>(*shading_);
         return {};

@@ -271,7 +271,8 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     d.own_bvhs = p.meshes_with_own_bvh;
     d.has_scene = true;
     d.scene = &scene;
-    d.sealed = std::make_unique<SealedEmitters>(scene);
+    if (!d.sealed || !d.sealed->adopt_translated(scene))  // a camera move keeps the analysis
+        d.sealed = std::make_unique<SealedEmitters>(scene);
     d.excluded.clear();
     d.light_state.instances = p.instances;
     d.light_state.globals = p.globals;
