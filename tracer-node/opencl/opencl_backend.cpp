@@ -151,7 +151,18 @@ public:
             return queue.enqueueWriteBuffer(buffer_, CL_FALSE, run_start, end - run_start,
                                             mirror_.data() + run_start);
         };
+        // Whole blocks that match are skipped with one memcmp; only differing blocks are
+        // compared element by element.
+        const std::size_t block = element * std::max<std::size_t>(1, 4096 / element);
         for (std::size_t off = 0; off < size; off += element) {
+            if (off % block == 0 && off + block <= std::min(size, old_size) &&
+                std::memcmp(mirror_.data() + off, bytes + off, block) == 0) {
+                if (in_run)
+                    if (cl_int err = flush(off); err != CL_SUCCESS)
+                        return cl_failure("uploading", err);
+                off += block - element;
+                continue;
+            }
             const std::size_t n = std::min(element, size - off);
             const bool changed =
                 off + n > old_size || std::memcmp(mirror_.data() + off, bytes + off, n) != 0;
