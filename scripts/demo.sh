@@ -5,7 +5,8 @@
 # and workload scaling holds TARGET_FPS. Prints the frame rate, the quality chosen, each
 # tracer's utilisation and the client's input latency, and writes the frames (JPEG) and a
 # contact sheet to out/.
-# Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10).
+# Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10),
+# BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install_deps.sh"
@@ -34,9 +35,11 @@ client_port=$(grep -o "client_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
   --out "$out/frames" --contact-sheet "$out/contact_sheet.png" > "$out/client.log" 2>&1 &
 client=$!
 for _ in $(seq 100); do grep -q '"headless-client" connected' "$out/coordinator.log" && break; sleep 0.1; done
-for name in tracer-a tracer-b; do
-  "$bin/tracer-node/pathfarm-tracer" --coordinator "127.0.0.1:$tracer_port" --name "$name" --threads 1 \
-    --max-reconnects 0 > "$out/$name.log" 2>&1 &
+read -r -a backends <<< "${BACKENDS:-embree embree}"
+names=(tracer-a tracer-b)
+for i in 0 1; do
+  "$bin/tracer-node/pathfarm-tracer" --coordinator "127.0.0.1:$tracer_port" --name "${names[$i]}" \
+    --backend "${backends[$i]:-embree}" --threads 1 --max-reconnects 0 > "$out/${names[$i]}.log" 2>&1 &
   pids+=($!)
 done
 wait "$coordinator" || { echo "demo: the coordinator failed:"; tail -5 "$out/coordinator.log"; exit 1; }
