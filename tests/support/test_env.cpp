@@ -7,6 +7,17 @@
 #include <gtest/gtest.h>
 
 namespace pathfarm::test {
+namespace {
+
+#ifdef PATHFARM_TEST_POCL_CACHE
+// PoCL's kernel cache in the build tree: only the first test run after a kernel change compiles.
+// Child processes (tracers started by farm tests) inherit it.
+const bool kPoclCacheSet = [] {
+    return setenv("POCL_CACHE_DIR", PATHFARM_TEST_POCL_CACHE, 0) == 0;
+}();
+#endif
+
+}  // namespace
 
 std::string scenes_dir_or_skip() {
     const char* dir = std::getenv("PATHFARM_SCENES");
