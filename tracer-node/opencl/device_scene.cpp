@@ -9,6 +9,7 @@
 #include "common/base/hash.h"
 #include "common/math/transform.h"
 #include "common/render/light_sampler.h"
+#include "common/sampling/rng.h"
 
 namespace pathfarm::tracer {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 static_assert(sizeof(PfBvhNode) == sizeof(BvhNode), "PfBvhNode mirrors BvhNode");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
                   sizeof(PfMaterial) == 25 * 4 && sizeof(PfTexture) == 6 * 4 &&
-                  sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == 32 * 4 &&
+                  sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == (32 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
               "device structs are packed 4-byte fields (device_types.h)");
 
@@ -237,6 +238,11 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
             out.top_prims.push_back(box_instance[p]);
     }
     out.globals.instance_count = uint32_t(out.top_prims.size());
+    for (int i = 0; i < 256; ++i)
+        out.globals.srgb_to_linear[i] = srgb_to_linear(float(i) / 255.0f);
+    for (int b = 0; b < 4; ++b)
+        for (int v = 0; v < 256; ++v)
+            out.globals.sobol_dim1[256 * b + v] = detail::kSobolDim1.table[b][v];
 
     for (const Material& m : scene.materials)
         out.materials.push_back(pack_material(m));

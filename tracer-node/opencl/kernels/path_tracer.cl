@@ -189,7 +189,8 @@ __kernel void pf_render_rows(PfFrameParams fp, __global const float* positions,
     float3 sum = (float3)(0.0f), carry = (float3)(0.0f);  // Kahan summation
 #endif
     for (int k = fp.first_sample; k < fp.first_sample + fp.spp; ++k) {
-        PfSampler sampler = pf_make_sampler((uint)x, (uint)y, fp.frame, (uint)k, fp.seed);
+        PfSampler sampler =
+            pf_make_sampler((uint)x, (uint)y, fp.frame, (uint)k, fp.seed, globals->sobol_dim1);
         const float2 jitter = pf_next_2d(&sampler);
         const float px = (float)x + jitter.x, py = (float)y + jitter.y;
         const float sx = (2.0f * px / (float)fp.width - 1.0f) * fp.tan_half_fov * aspect;

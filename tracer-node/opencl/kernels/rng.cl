@@ -38,13 +38,11 @@ uint pf_laine_karras(uint x, uint seed) {
     return x;
 }
 
-// reverse_bits(sobol_dim1(reverse_bits(w))): the host uses byte tables for this.
-uint pf_reversed_sobol_dim1_of_reversed(uint w) {
-    uint i = pf_reverse_bits(w);
-    uint r = 0;
-    for (uint v = 1U << 31; i != 0; i >>= 1, v ^= v >> 1)
-        if (i & 1U) r ^= v;
-    return pf_reverse_bits(r);
+// reverse_bits(sobol_dim1(reverse_bits(w))) from the host's byte tables (XOR of the bit-reversed
+// direction numbers that w's bits select).
+uint pf_reversed_sobol_dim1_of_reversed(__global const uint* table, uint w) {
+    return table[w & 0xffU] ^ table[256 + ((w >> 8) & 0xffU)] ^ table[512 + ((w >> 16) & 0xffU)] ^
+           table[768 + (w >> 24)];
 }
 
 float pf_bits_to_unit_float(uint bits) { return (float)(bits >> 8) * 5.9604644775390625e-8f; }
@@ -53,10 +51,13 @@ typedef struct {
     uint pixel_hash;
     uint reversed_sample;
     uint dimension_pair;
+    __global const uint* sobol_dim1;  // PfSceneGlobals::sobol_dim1
 } PfSampler;
 
-PfSampler pf_make_sampler(uint x, uint y, uint frame, uint sample, uint seed) {
+PfSampler pf_make_sampler(uint x, uint y, uint frame, uint sample, uint seed,
+                          __global const uint* sobol_dim1) {
     PfSampler s;
+    s.sobol_dim1 = sobol_dim1;
     s.pixel_hash = pf_hash_words4(x, y, frame, seed);
     s.reversed_sample = pf_reverse_bits(sample);
     s.dimension_pair = 0;
@@ -68,7 +69,7 @@ float2 pf_next_2d(PfSampler* s) {
     const uint w = pf_laine_karras(s->reversed_sample, pair_seed);
     const uint a = pf_reverse_bits(
         pf_laine_karras(pf_reverse_bits(w), pf_hash_u32(pair_seed ^ 0x68bc21ebU)));
-    const uint b = pf_reverse_bits(pf_laine_karras(pf_reversed_sobol_dim1_of_reversed(w),
+    const uint b = pf_reverse_bits(pf_laine_karras(pf_reversed_sobol_dim1_of_reversed(s->sobol_dim1, w),
                                                    pf_hash_u32(pair_seed ^ 0x02e5be93U)));
     return (float2)(pf_bits_to_unit_float(a), pf_bits_to_unit_float(b));
 }

@@ -59,10 +59,6 @@ float3 pf_normalize_or(float3 v, float3 fallback) {
     return len2 > 1e-20f && isfinite(len2) ? v / sqrt(len2) : fallback;
 }
 
-float pf_srgb_to_linear(float v) {
-    return v <= 0.04045f ? v / 12.92f : pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
 int pf_wrap_index(int i, int n, uint mode) {
     if (mode == 1u) return clamp(i, 0, n - 1);
     if (mode == 2u) {
@@ -80,8 +76,8 @@ float4 pf_texel(const PfScene* s, __global const PfTexture* tex, int x, int y, b
         s->texels + 4 * ((size_t)tex->first_texel + (size_t)y * (size_t)tex->width + (size_t)x);
     const float4 v = (float4)(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
     if (!srgb) return v;
-    return (float4)(pf_srgb_to_linear((float)p[0] / 255.0f), pf_srgb_to_linear((float)p[1] / 255.0f),
-                    pf_srgb_to_linear((float)p[2] / 255.0f), v.w);
+    __global const float* table = s->globals->srgb_to_linear;
+    return (float4)(table[p[0]], table[p[1]], table[p[2]], v.w);
 }
 
 // sample_image: glTF wrap modes, nearest or bilinear, no mip-maps.
