@@ -12,14 +12,13 @@ against the cached 2048-spp references of time_vs_error.py.
 Writes bench/results/opencl_vs_embree.csv and opencl_vs_embree.png.
 """
 import argparse
-import math
 import os
 import re
 import statistics
 import subprocess
 import tempfile
 
-from bench_common import ROOT, SCENES, pfm_floats, write_csv
+from bench_common import ROOT, SCENES, errors, write_csv
 from bench_common import run as run_tool
 
 BENCH_SCENES = [
@@ -40,14 +39,6 @@ def render(a, scene, backend, spp, out):
     return {k: float(v) for k, v in re.findall(r"(\w+)=([0-9.eE+-]+)", line)}
 
 
-def errors(image, ref):
-    x, r = pfm_floats(image), pfm_floats(ref)
-    se = rel = 0.0
-    for p, q in zip(x, r):
-        d = p - q
-        se += d * d
-        rel += d * d / (q * q + 1e-2)
-    return math.sqrt(se / len(x)), rel / len(x)
 
 
 def main():

@@ -13,14 +13,14 @@ Every pair is measured A/B alternating, `--repeats` times after a warm-up; media
 bench/results/skips.csv and skips.png.
 """
 import argparse
-import math
 import os
 import re
 import statistics
 import subprocess
 import tempfile
 
-from bench_common import ROOT, SCENES, pfm_floats, write_csv
+from bench_common import ROOT, SCENES, write_csv
+from bench_common import errors as errors_of
 from bench_common import run as run_tool
 
 # (skip, scene name, scene, backend, variant A args, variant B args, spp)
@@ -47,9 +47,6 @@ def render(a, scene, backend, spp, extra, out):
     return {k: float(v) for k, v in re.findall(r"(\w+)=([0-9.eE+-]+)", line)}
 
 
-def rel_mse(image, ref):
-    x, r = pfm_floats(image), pfm_floats(ref)
-    return sum((p - q) ** 2 / (q * q + 1e-2) for p, q in zip(x, r)) / len(x)
 
 
 def plot(a, csv_path):
@@ -101,7 +98,7 @@ def main():
             for key, extra in (("a", args_a), ("b", args_b)):
                 image = os.path.join(work, f"{key}.pfm")
                 seconds[key].append(render(a, scene, backend, spp, extra, image)["seconds"])
-                errors[key] = rel_mse(image, ref)
+                errors[key] = errors_of(image, ref)[1]
         t = {k: statistics.median(v) for k, v in seconds.items()}
         eff = {k: 1.0 / (errors[k] * t[k]) for k in t}
         row = [skip, name, backend, " ".join(args_a) or "default", " ".join(args_b), spp,

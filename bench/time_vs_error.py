@@ -23,7 +23,7 @@ import subprocess
 import sys
 import tempfile
 
-from bench_common import ROOT, SCENES, pfm_floats, start, wait_for, write_csv
+from bench_common import ROOT, SCENES, errors, start, wait_for, write_csv
 from bench_common import run as run_tool
 
 FULL_SCENES = [
@@ -64,14 +64,6 @@ def reference(a, name, scene):
     return path
 
 
-def errors(image, ref):
-    x, r = pfm_floats(image), pfm_floats(ref)
-    se = rel = 0.0
-    for p, q in zip(x, r):
-        d = p - q
-        se += d * d
-        rel += d * d / (q * q + 1e-2)
-    return math.sqrt(se / len(x)), rel / len(x)
 
 
 def farm_point(a, scene, spp, ref, work):

@@ -6,6 +6,7 @@
 
 #include "common/cli/command_line.h"
 #include "common/net/auth.h"
+#include "tracer-node/backend/backend_cli.h"
 #include "tracer-node/tracer_daemon.h"
 
 namespace {
@@ -20,15 +21,7 @@ int main(int argc, char** argv) {
     std::string coordinator, secret_file;
     CLI::App app{"pathfarm-tracer: renders the rows a pathfarm coordinator assigns it"};
     app.add_option("--coordinator", coordinator, "Coordinator tracer port, HOST:PORT")->required();
-    app.add_option("--backend", o.backend, "Render backend: embree or opencl")
-        ->capture_default_str();
-    app.add_option("--threads", o.threads,
-                   "Render threads (0: all; OpenCL: compute units of the device)")
-        ->capture_default_str();
-    app.add_option("--cl-platform", o.cl_platform, "OpenCL platform index (see clinfo -l)")
-        ->capture_default_str();
-    app.add_option("--cl-device", o.cl_device, "OpenCL device index within the platform")
-        ->capture_default_str();
+    pathfarm::tracer::add_backend_options(app, o.backend, o.threads, o.cl_platform, o.cl_device);
     app.add_option("--secret-file", secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
     app.add_option("--name", o.name, "Name shown in the coordinator's statistics")

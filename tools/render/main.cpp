@@ -7,6 +7,7 @@
 
 #include "common/cli/command_line.h"
 #include "tools/render/render_tool.h"
+#include "tracer-node/backend/backend_cli.h"
 
 namespace {
 
@@ -49,16 +50,8 @@ int main(int argc, char** argv) {
     app.add_option("--frame", o.frame, "Frame index (enters the random numbers)")
         ->capture_default_str();
     add_camera_options(app, o, look_from, look_at, up);
-    app.add_option("--threads", o.threads,
-                   "Render threads (0: all; OpenCL: compute units of the device)")
-        ->capture_default_str();
-    app.add_option("--cl-platform", o.cl_platform, "OpenCL platform index (see clinfo -l)")
-        ->capture_default_str();
-    app.add_option("--cl-device", o.cl_device, "OpenCL device index within the platform")
-        ->capture_default_str();
+    pathfarm::tracer::add_backend_options(app, o.backend, o.threads, o.cl_platform, o.cl_device);
     app.add_option("--max-depth", o.max_depth, "Maximum number of bounces")->capture_default_str();
-    app.add_option("--backend", o.backend, "Render backend: embree or opencl")
-        ->capture_default_str();
     app.add_option("--strategy", strategy,
                    "Direct light: mis, light (light sampling only) or bsdf (BSDF sampling only)")
         ->capture_default_str()
