@@ -2,6 +2,7 @@
 #include "common/film/image_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include <OpenImageIO/filesystem.h>
@@ -38,11 +39,27 @@ Result<Rgba8Image> read_rgba8_from(std::unique_ptr<OIIO::ImageInput> in, const s
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         return make_error(ErrorCode::parse_error, "{}: empty image", name);
-    std::vector<uint8_t> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
+    const std::size_t count = std::size_t(spec.width) * spec.height * spec.nchannels;
+    std::vector<uint8_t> pixels(count);
+    std::size_t nonfinite = 0;
+    if (spec.format.is_floating_point()) {
+        // Converted here rather than by OIIO: a NaN texel must become a defined value.
+        std::vector<float> values(count);
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, values.data()))
+            return make_error(ErrorCode::parse_error, "{}: {}", name, in->geterror());
+        for (std::size_t i = 0; i < count; ++i) {
+            float v = values[i];
+            if (!std::isfinite(v)) {
+                ++nonfinite;
+                v = v > 0.0f ? 1.0f : 0.0f;  // NaN compares false: 0
+            }
+            pixels[i] = uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+        }
+    } else if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data())) {
         return make_error(ErrorCode::parse_error, "{}: {}", name, in->geterror());
+    }
     Rgba8Image img{spec.width, spec.height,
-                   std::vector<uint8_t>(std::size_t(spec.width) * spec.height * 4)};
+                   std::vector<uint8_t>(std::size_t(spec.width) * spec.height * 4), nonfinite};
     const int nc = spec.nchannels;
     for (std::size_t i = 0; i < std::size_t(spec.width) * spec.height; ++i) {
         const uint8_t* src = &pixels[i * nc];

@@ -27,6 +27,9 @@ struct Rgba8Image {
     int width = 0;
     int height = 0;
     std::vector<uint8_t> rgba;
+    // Float images (EXR, HDR) are scaled from [0, 1]; NaN values become 0 and infinities clamp
+    // (to 0 or 255). How many values that was, for the loader's warning.
+    std::size_t nonfinite_values = 0;
 };
 Result<Rgba8Image> read_rgba8(const std::string& path);
 // name_hint carries the extension OIIO uses to pick a decoder (e.g. "texture.png").

@@ -41,6 +41,10 @@ bool decode_image(tinygltf::Image* image, const int index, std::string*, std::st
         image->width = image->height = 0;
         return true;  // the scene still loads
     }
+    if (decoded->nonfinite_values > 0)
+        ctx->warnings.push_back(fmt::format(
+            "{}: image {} \"{}\": {} NaN/Inf values (NaN read as 0, infinities clamped)", ctx->path,
+            index, image->uri, decoded->nonfinite_values));
     image->width = decoded->width;
     image->height = decoded->height;
     image->component = 4;

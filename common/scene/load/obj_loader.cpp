@@ -59,6 +59,10 @@ TextureRef ObjImporter::load_texture(const std::string& name) {
         spdlog::warn("{}: texture \"{}\" not loaded ({}); ignored", path_, name,
                      image.error().message);
     } else {
+        if (image->nonfinite_values > 0)
+            spdlog::warn(
+                "{}: texture \"{}\": {} NaN/Inf values (NaN read as 0, infinities clamped)", path_,
+                name, image->nonfinite_values);
         scene_.images.push_back(Image{name, image->width, image->height, std::move(image->rgba)});
         scene_.textures.push_back(Texture{int(scene_.images.size()) - 1, Sampler{}});
         texture = int(scene_.textures.size()) - 1;

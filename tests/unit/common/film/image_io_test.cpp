@@ -1,6 +1,8 @@
 // Image files: EXR and PFM round-trip linear float exactly; PNG is tonemapped; errors name files.
 #include "common/film/image_io.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "common/film/image_compare.h"
@@ -27,6 +29,22 @@ TEST(ImageIo, FloatFormatsRoundTripExactly) {
         ASSERT_EQ(back->width, 7);
         EXPECT_EQ(back->rgb, img.rgb) << name << " keeps row 0 at the top and full precision";
     }
+}
+
+TEST(ImageIo, FloatTexturesWithNanAndInfDecodeToDefinedBytes) {
+    FloatImage img(2, 2);
+    img.set_pixel(0, 0, Rgb(std::nanf(""), 0.5f, 1.0f));
+    img.set_pixel(1, 0, Rgb(INFINITY, -INFINITY, 0.0f));
+    img.set_pixel(0, 1, Rgb(2.0f, -1.0f, 0.25f));
+    img.set_pixel(1, 1, Rgb(std::nanf(""), std::nanf(""), std::nanf("")));
+    const std::string path = test::scratch_dir() + "/nan.exr";
+    ASSERT_TRUE(write_image(path, img).ok());
+    auto decoded = read_rgba8(path);
+    ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+    EXPECT_EQ(decoded->nonfinite_values, 6u);
+    const std::vector<uint8_t> expected = {0,   128, 255, 255, 255, 0, 0, 255,
+                                           255, 0,   64,  255, 0,   0, 0, 255};
+    EXPECT_EQ(decoded->rgba, expected);
 }
 
 TEST(ImageIo, PngIsWrittenAndBadPathsAreErrors) {
