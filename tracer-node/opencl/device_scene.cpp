@@ -89,6 +89,11 @@ Bounds3f instance_bounds(const BvhNode& root, const Mat4& transform) {
                      (corner & 4) ? root.upper[2] : root.lower[2]);
         b.extend(transform_point(transform, p));
     }
+    // The transformed corners are rounded to float: pad by a few ulps so that the box stays
+    // conservative (rounding to nearest may shrink it by half an ulp).
+    const Vec3 pad = 4e-7f * glm::max(glm::abs(b.lower), glm::abs(b.upper)) + Vec3(1e-30f);
+    b.lower -= pad;
+    b.upper += pad;
     return b;
 }
 
