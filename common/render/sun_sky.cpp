@@ -58,6 +58,10 @@ SunSky::SunSky(const Environment& env) {
                                    {0.15346f, -0.26756f, 0.06670f, 0.26688f}};
     zenith_x_ = zenith_chromaticity(t, theta_sun_, cx);
     zenith_yy_ = zenith_chromaticity(t, theta_sun_, cy);
+    const float cos_ts = std::cos(theta_sun_);
+    perez_zenith_y_ = perez(perez_y_, 1.0f, theta_sun_, cos_ts);
+    perez_zenith_x_ = perez(perez_x_, 1.0f, theta_sun_, cos_ts);
+    perez_zenith_yy_ = perez(perez_yy_, 1.0f, theta_sun_, cos_ts);
 
     // Units: the paper's zenith luminance is in kcd/m^2 (about 5-10 at midday); 0.04 maps it
     // to display-friendly radiance. The sun's radiance gives kSunIrradiance at normal incidence.
@@ -88,6 +92,9 @@ SunSkyParams SunSky::params() const {
     p.zenith_x = zenith_x_;
     p.zenith_yy = zenith_yy_;
     p.theta_sun = theta_sun_;
+    p.perez_zenith_y = perez_zenith_y_;
+    p.perez_zenith_x = perez_zenith_x_;
+    p.perez_zenith_yy = perez_zenith_yy_;
     return p;
 }
 
@@ -95,13 +102,9 @@ Rgb SunSky::sky_radiance(const Vec3& w) const {
     if (w.y <= 0.0f) return Rgb(0.0f);
     const float cos_gamma = std::clamp(glm::dot(w, sun_dir_), -1.0f, 1.0f);
     const float gamma = std::acos(cos_gamma);
-    const float cos_ts = std::cos(theta_sun_);
-    const float y = zenith_y_ * perez(perez_y_, w.y, gamma, cos_gamma) /
-                    perez(perez_y_, 1.0f, theta_sun_, cos_ts);
-    const float x = zenith_x_ * perez(perez_x_, w.y, gamma, cos_gamma) /
-                    perez(perez_x_, 1.0f, theta_sun_, cos_ts);
-    const float yy = zenith_yy_ * perez(perez_yy_, w.y, gamma, cos_gamma) /
-                     perez(perez_yy_, 1.0f, theta_sun_, cos_ts);
+    const float y = zenith_y_ * perez(perez_y_, w.y, gamma, cos_gamma) / perez_zenith_y_;
+    const float x = zenith_x_ * perez(perez_x_, w.y, gamma, cos_gamma) / perez_zenith_x_;
+    const float yy = zenith_yy_ * perez(perez_yy_, w.y, gamma, cos_gamma) / perez_zenith_yy_;
     return xyy_to_rgb(x, yy, std::max(y, 0.0f)) * sky_scale_;
 }
 

@@ -22,6 +22,7 @@ struct SunSkyParams {
     float perez_y[5], perez_x[5], perez_yy[5];
     float zenith_y, zenith_x, zenith_yy;
     float theta_sun;
+    float perez_zenith_y, perez_zenith_x, perez_zenith_yy;  // each Perez function at the zenith
 };
 
 struct EnvSample {
@@ -55,6 +56,8 @@ private:
     float perez_y_[5], perez_x_[5], perez_yy_[5];
     float zenith_y_, zenith_x_, zenith_yy_;  // Y (luminance), x, y chromaticity at the zenith
     float theta_sun_;
+    // The Perez functions' values at the zenith, which every sky_radiance() divides by.
+    float perez_zenith_y_, perez_zenith_x_, perez_zenith_yy_;
 };
 
 }  // namespace pathfarm

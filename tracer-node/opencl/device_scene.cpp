@@ -17,7 +17,7 @@ namespace {
 static_assert(sizeof(PfBvhNode) == sizeof(BvhNode), "PfBvhNode mirrors BvhNode");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
                   sizeof(PfMaterial) == 25 * 4 && sizeof(PfTexture) == 6 * 4 &&
-                  sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == (32 + 256 + 1024) * 4 &&
+                  sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == (35 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
               "device structs are packed 4-byte fields (device_types.h)");
 
@@ -139,6 +139,9 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded, Pac
         g.zenith_x = p.zenith_x;
         g.zenith_yy = p.zenith_yy;
         g.theta_sun = p.theta_sun;
+        g.perez_zenith_y = p.perez_zenith_y;
+        g.perez_zenith_x = p.perez_zenith_x;
+        g.perez_zenith_yy = p.perez_zenith_yy;
     }
 }
 

@@ -115,6 +115,9 @@ typedef struct {
     float zenith_x;
     float zenith_yy;
     float theta_sun;
+    float perez_zenith_y;  // each Perez function at the zenith (sky_radiance divides by them)
+    float perez_zenith_x;
+    float perez_zenith_yy;
     float p_environment;  // probability of sampling the sun/sky rather than a triangle
     pf_uint has_environment;
     pf_uint light_count;

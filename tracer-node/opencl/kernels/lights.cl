@@ -28,13 +28,10 @@ float3 pf_sky_radiance(__global const PfSceneGlobals* g, float3 w) {
     if (w.y <= 0.0f) return (float3)(0.0f);
     const float cos_gamma = clamp(dot(w, pf_vec3(g->sun_dir)), -1.0f, 1.0f);
     const float gamma = acos(cos_gamma);
-    const float cos_ts = cos(g->theta_sun);
-    const float y = g->zenith_y * pf_perez(g->perez_y, w.y, gamma, cos_gamma) /
-                    pf_perez(g->perez_y, 1.0f, g->theta_sun, cos_ts);
-    const float x = g->zenith_x * pf_perez(g->perez_x, w.y, gamma, cos_gamma) /
-                    pf_perez(g->perez_x, 1.0f, g->theta_sun, cos_ts);
-    const float yy = g->zenith_yy * pf_perez(g->perez_yy, w.y, gamma, cos_gamma) /
-                     pf_perez(g->perez_yy, 1.0f, g->theta_sun, cos_ts);
+    const float y = g->zenith_y * pf_perez(g->perez_y, w.y, gamma, cos_gamma) / g->perez_zenith_y;
+    const float x = g->zenith_x * pf_perez(g->perez_x, w.y, gamma, cos_gamma) / g->perez_zenith_x;
+    const float yy =
+        g->zenith_yy * pf_perez(g->perez_yy, w.y, gamma, cos_gamma) / g->perez_zenith_yy;
     return pf_xyy_to_rgb(x, yy, fmax(y, 0.0f)) * g->sky_scale;
 }
 
