@@ -235,4 +235,23 @@ std::vector<bool> SealedEmitters::culled(const Vec3& viewer_now) const {
     return out;
 }
 
+void LightCulling::set_scene(const SceneModel& scene) {
+    if (!sealed_ || !sealed_->adopt_translated(scene))
+        sealed_ = std::make_unique<SealedEmitters>(scene);
+    fresh_ = true;
+}
+
+bool LightCulling::update(const Vec3& eye, bool enabled) {
+    if (!fresh_ && enabled == enabled_ && eye == eye_) return false;  // per work unit: no work
+    const bool was_fresh = fresh_;
+    fresh_ = false;
+    enabled_ = enabled;
+    eye_ = eye;
+    std::vector<bool> excluded;
+    if (enabled && sealed_ && sealed_->enclosure_count() > 0) excluded = sealed_->culled(eye);
+    if (!was_fresh && excluded == excluded_) return false;
+    excluded_ = std::move(excluded);
+    return true;
+}
+
 }  // namespace pathfarm

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/scene/scene_model.h"
@@ -53,6 +54,26 @@ private:
     std::vector<Mat3> linear_;
     std::vector<glm::dvec3> translation_;
     glm::dvec3 shift_{0.0};  // added to the analysed scene's coordinates by adopt_translated
+};
+
+// What a backend keeps for culling: the analysis of its current scene and the emitters left out
+// for the current camera, recomputed only when the camera or the scene changed.
+class LightCulling {
+public:
+    // Adopts the previous analysis when the scene only moved as a whole, else analyses it.
+    void set_scene(const SceneModel& scene);
+    // The excluded set for a camera at `eye` (none when !enabled); true when it changed since
+    // the last call, i.e. the light sampler must be rebuilt.
+    bool update(const Vec3& eye, bool enabled);
+    const std::vector<bool>& excluded() const { return excluded_; }
+    std::size_t enclosure_count() const { return sealed_ ? sealed_->enclosure_count() : 0; }
+
+private:
+    std::unique_ptr<SealedEmitters> sealed_;
+    std::vector<bool> excluded_;
+    bool fresh_ = true;  // no update() since set_scene()
+    bool enabled_ = false;
+    Vec3 eye_{0.0f};
 };
 
 }  // namespace pathfarm

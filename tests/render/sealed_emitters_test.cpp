@@ -121,6 +121,23 @@ TEST(SealedEmitters, KeepsTheAnalysisWhenTheWholeSceneIsTranslated) {
     EXPECT_FALSE(SealedEmitters(scene).adopt_translated(glass));
 }
 
+TEST(LightCulling, RecomputesOnlyWhenTheCameraOrTheSceneChanges) {
+    const SceneModel scene = make_sealed_lights_scene();
+    LightCulling culling;
+    culling.set_scene(scene);
+    EXPECT_TRUE(culling.update(eye(scene), true)) << "a new scene always asks for a rebuild";
+    EXPECT_FALSE(culling.update(eye(scene), true)) << "same camera, every work unit: no work";
+    const std::vector<bool> in_room = culling.excluded();
+    EXPECT_FALSE(culling.update(eye(scene) + Vec3(0.1f, 0.0f, 0.0f), true))
+        << "moved inside the same room: the same set";
+    EXPECT_TRUE(culling.update(Vec3(5.0f, 1.5f, 0.0f), true)) << "into the other room";
+    EXPECT_NE(culling.excluded(), in_room);
+    EXPECT_TRUE(culling.update(Vec3(5.0f, 1.5f, 0.0f), false)) << "culling switched off";
+    EXPECT_TRUE(culling.excluded().empty());
+    culling.set_scene(scene);
+    EXPECT_TRUE(culling.update(Vec3(5.0f, 1.5f, 0.0f), false));
+}
+
 class SealedLightsRender : public ::testing::TestWithParam<tracer::BackendKind> {};
 
 TEST_P(SealedLightsRender, CullingEqualsTheSceneWithoutThoseEmitters) {

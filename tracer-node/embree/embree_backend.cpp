@@ -39,27 +39,22 @@ public:
         if (!kernel) return kernel.error();
         kernel_ = std::move(kernel.value());
         shading_ = std::make_unique<ShadingScene>(scene);
-        if (!sealed_ || !sealed_->adopt_translated(scene))  // a camera move keeps the analysis
-            sealed_ = std::make_unique<SealedEmitters>(scene);
-        excluded_.clear();
-        lights_ = std::make_unique<LightSampler>(*shading_);
+        culling_.set_scene(scene);
+        lights_.reset();
         return {};
     }
 
     // Emitters a closed surface separates from this frame's camera are left out of the light
     // sampler; it is rebuilt only when that set changes.
     void update_lights(const RenderJob& job) {
-        std::vector<bool> excluded;
-        if (job.integrator.cull_sealed_lights && sealed_->enclosure_count() > 0)
-            excluded =
-                sealed_->culled(transform_point(job.frame.camera.camera_to_world, Vec3(0.0f)));
-        if (excluded == excluded_) return;
-        excluded_ = std::move(excluded);
-        lights_ = std::make_unique<LightSampler>(*shading_, excluded_);
+        const Vec3 eye = transform_point(job.frame.camera.camera_to_world, Vec3(0.0f));
+        if (!culling_.update(eye, job.integrator.cull_sealed_lights) && lights_) return;
+        const std::vector<bool>& excluded = culling_.excluded();
+        lights_ = std::make_unique<LightSampler>(*shading_, excluded);
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",
-            std::count(excluded_.begin(), excluded_.end(), true), sealed_->enclosure_count());
+            std::count(excluded.begin(), excluded.end(), true), culling_.enclosure_count());
     }
 
     Result<RenderStats> render_rows(const RenderJob& job, float* out) override {
@@ -99,8 +94,7 @@ private:
     tbb::task_arena arena_;
     std::unique_ptr<EmbreeScene> kernel_;
     std::unique_ptr<ShadingScene> shading_;
-    std::unique_ptr<SealedEmitters> sealed_;
-    std::vector<bool> excluded_;  // instances the light sampler leaves out
+    LightCulling culling_;
     std::unique_ptr<LightSampler> lights_;
 };
 

@@ -208,8 +208,7 @@ struct OpenClBackend::Impl {
     UploadStats upload;
     // For re-packing the lights when the camera's side of a closed surface changes.
     const SceneModel* scene = nullptr;
-    std::unique_ptr<SealedEmitters> sealed;
-    std::vector<bool> excluded;
+    LightCulling culling;
     PackedScene light_state;  // instances, lights and globals as last uploaded
     // Scene buffers, in kernel argument order after the frame parameters.
     DeviceArray positions, normals, uvs, tangents, indices, meshes, instances, nodes, prims,
@@ -282,9 +281,7 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     d.own_bvhs = p.meshes_with_own_bvh;
     d.has_scene = true;
     d.scene = &scene;
-    if (!d.sealed || !d.sealed->adopt_translated(scene))  // a camera move keeps the analysis
-        d.sealed = std::make_unique<SealedEmitters>(scene);
-    d.excluded.clear();
+    d.culling.set_scene(scene);
     d.light_state.instances = p.instances;
     d.light_state.globals = p.globals;
     std::string parts;
@@ -383,16 +380,14 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
 // the Embree backend); the arrays are re-packed and diff-uploaded only when that set changes.
 Status OpenClBackend::update_lights(const RenderJob& job) {
     Impl& d = *impl_;
-    std::vector<bool> excluded;
-    if (job.integrator.cull_sealed_lights && d.sealed->enclosure_count() > 0)
-        excluded = d.sealed->culled(transform_point(job.frame.camera.camera_to_world, Vec3(0.0f)));
-    if (excluded == d.excluded) return {};
-    d.excluded = std::move(excluded);
-    pack_lights(*d.scene, d.excluded, d.light_state);
+    const Vec3 eye = transform_point(job.frame.camera.camera_to_world, Vec3(0.0f));
+    if (!d.culling.update(eye, job.integrator.cull_sealed_lights)) return {};
+    const std::vector<bool>& excluded = d.culling.excluded();
+    pack_lights(*d.scene, excluded, d.light_state);
     spdlog::debug(
         "opencl backend: {} emissive instance(s) sealed off from the camera ({} closed "
         "surface(s))",
-        std::count(d.excluded.begin(), d.excluded.end(), true), d.sealed->enclosure_count());
+        std::count(excluded.begin(), excluded.end(), true), d.culling.enclosure_count());
     const std::vector<PfSceneGlobals> globals{d.light_state.globals};
     for (Status s : {d.upload_array("lights", d.lights, d.light_state.lights),
                      d.upload_array("instances", d.instances, d.light_state.instances),
