@@ -47,6 +47,15 @@ std::vector<FloatImage> batches(const SceneModel& scene, int n, int spp, int siz
 
 std::size_t nonfinite(const FloatImage& img) { return count_nonfinite(img); }
 
+// Every pixel finite, and light arrives somewhere (what `what` names is visible and lit).
+void expect_finite_and_lit(const FloatImage& img, const char* what) {
+    EXPECT_EQ(nonfinite(img), 0u);
+    double sum = 0.0;
+    for (float v : img.rgb)
+        sum += v;
+    EXPECT_GT(sum, 0.0) << what;
+}
+
 class ScaleInvariance : public ::testing::TestWithParam<float> {};
 
 TEST_P(ScaleInvariance, CornellRendersTheSameImage) {
@@ -125,11 +134,7 @@ TEST(Degenerate, RepairedWithAWarningAndRendersFinitePixels) {
     r.width = r.height = 24;
     r.spp = 16;
     const FloatImage img = test::render(scene, r);
-    EXPECT_EQ(nonfinite(img), 0u);
-    double sum = 0.0;
-    for (float v : img.rgb)
-        sum += v;
-    EXPECT_GT(sum, 0.0) << "the lit quad is visible";
+    expect_finite_and_lit(img, "the lit quad is visible");
 }
 
 TEST(HardTransport, TexturesWithNanTexelsGiveFinitePixels) {
@@ -159,11 +164,7 @@ TEST(HardTransport, TexturesWithNanTexelsGiveFinitePixels) {
     r.width = r.height = 16;
     r.spp = 8;
     const FloatImage img = test::render(*scene, r);
-    EXPECT_EQ(nonfinite(img), 0u);
-    double sum = 0.0;
-    for (float v : img.rgb)
-        sum += v;
-    EXPECT_GT(sum, 0.0) << "the textured quad is lit";
+    expect_finite_and_lit(img, "the textured quad is lit");
 }
 
 TEST(HardTransport, TinyVeryBrightLightGivesFinitePixels) {
