@@ -2,7 +2,6 @@
 // and the row-range launch.
 #include "tracer-node/opencl/opencl_backend.h"
 
-#include <cstdlib>
 #include <cstring>
 #include <mutex>
 

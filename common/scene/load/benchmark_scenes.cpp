@@ -140,7 +140,7 @@ SceneModel make_sealed_lights_scene() {
                    Mat4(1.0f), -1, "lamp");
     b.add_instance(b.add_mesh(make_sphere(0.35f, 32, 64, walls)),
                    glm::translate(Mat4(1.0f), Vec3(0.7f, 0.35f, -0.4f)), -1, "ball");
-    // Next door, behind a shared-free gap of 1 m: a closed room full of bright panels.
+    // Next door, 1 m away (no wall shared): a closed room full of bright panels.
     const Vec3 next_door(5.0f, 0.0f, 0.0f);
     add_box_room(b, walls, floor, next_door);
     add_ceiling_panels(b, next_door);
