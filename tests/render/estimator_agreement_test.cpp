@@ -38,9 +38,9 @@ TEST(EstimatorAgreement, CornellBoxMisLightAndBsdfAgree) {
     const auto mis = batches(scene, LightStrategy::mis, 16);
     const auto light = batches(scene, LightStrategy::light_only, 16);
     const auto bsdf = batches(scene, LightStrategy::bsdf_only, 32);
-    for (const auto& [name, other, block] :
-         {std::tuple{"light", &light, 1}, std::tuple{"bsdf", &bsdf, 4}}) {
-        const auto r = test::compare_batches(mis, *other, kAlpha, block);
+    for (const auto& [name, other, block, sparse] :
+         {std::tuple{"light", &light, 1, false}, std::tuple{"bsdf", &bsdf, 4, true}}) {
+        const auto r = test::compare_batches(mis, *other, kAlpha, block, sparse);
         EXPECT_TRUE(r.agree(kAlpha))
             << "mis vs " << name << ": min pixel p " << r.min_pixel_p << " (threshold "
             << r.pixel_threshold << "), mean p " << r.mean_p << "; worst value " << r.worst_value

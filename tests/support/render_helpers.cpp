@@ -73,13 +73,22 @@ Moments moments(const std::vector<double>& v) {
     return {m, s / double(v.size() - 1) / double(v.size()), int(v.size())};
 }
 
-double welch_p(const Moments& a, const Moments& b) {
+// One-sample t-test of a against the constant c (b's every batch was the same value).
+double one_sample_p(const Moments& a, double c) {
+    if (a.var_of_mean <= 0.0) return a.mean == c ? 1.0 : 0.0;
+    return student_t_p_value((a.mean - c) / std::sqrt(a.var_of_mean), a.n - 1);
+}
+
+// Welch's test of equal means. A side whose batches are all equal (typically all 0) has no
+// variance estimate: the other side is tested against that constant, which is how an estimator
+// that is black where the other is lit fails. b_sparse marks b as an estimator that may miss a
+// small contribution in every batch (BSDF sampling of a small light): a constant b is then no
+// evidence and the block is left to the image-mean test.
+double welch_p(const Moments& a, const Moments& b, bool b_sparse) {
     const double se2 = a.var_of_mean + b.var_of_mean;
     if (se2 <= 0.0) return a.mean == b.mean ? 1.0 : 0.0;
-    // One estimator never found the light in this pixel (all batches equal, typically 0): a
-    // heavy-tailed estimator's batch variance is unknown there, so no per-pixel test is possible.
-    // The image-mean test still covers these pixels.
-    if (a.var_of_mean <= 0.0 || b.var_of_mean <= 0.0) return 1.0;
+    if (b.var_of_mean <= 0.0) return b_sparse ? 1.0 : one_sample_p(a, b.mean);
+    if (a.var_of_mean <= 0.0) return one_sample_p(b, a.mean);
     const double t = (a.mean - b.mean) / std::sqrt(se2);
     const double dof =
         se2 * se2 /
@@ -161,7 +170,8 @@ FloatImage downsample(const FloatImage& img, int block) {
 }
 
 AgreementResult compare_batches(const std::vector<FloatImage>& a_in,
-                                const std::vector<FloatImage>& b_in, double alpha, int block) {
+                                const std::vector<FloatImage>& b_in, double alpha, int block,
+                                bool b_sparse) {
     std::vector<FloatImage> a, b;
     for (const FloatImage& img : a_in)
         a.push_back(block > 1 ? downsample(img, block) : img);
@@ -181,7 +191,7 @@ AgreementResult compare_batches(const std::vector<FloatImage>& a_in,
             mb[k] += b[k].rgb[i] / double(values);
         }
         const Moments mom_a = moments(xa), mom_b = moments(xb);
-        const double p = welch_p(mom_a, mom_b);
+        const double p = welch_p(mom_a, mom_b, b_sparse);
         if (p < r.min_pixel_p) {
             r.min_pixel_p = p;
             r.worst_value = i;
@@ -189,7 +199,7 @@ AgreementResult compare_batches(const std::vector<FloatImage>& a_in,
             r.worst_b = mom_b.mean;
         }
     }
-    r.mean_p = welch_p(moments(ma), moments(mb));
+    r.mean_p = welch_p(moments(ma), moments(mb), false);
     return r;
 }
 

@@ -49,9 +49,11 @@ struct AgreementResult {
     bool agree(double alpha) const { return min_pixel_p >= pixel_threshold && mean_p >= alpha; }
 };
 // block > 1 averages block x block pixel squares first: for sparse, heavy-tailed estimators
-// (BSDF sampling of a small light) per-pixel batch means are far from normal.
+// (BSDF sampling of a small light) per-pixel batch means are far from normal. Where one side's
+// batches are all equal (black), the other is tested against that value, unless that side is b
+// and b_sparse says b may miss a small contribution in every batch (BSDF-only sampling).
 AgreementResult compare_batches(const std::vector<FloatImage>& a, const std::vector<FloatImage>& b,
-                                double alpha, int block = 1);
+                                double alpha, int block = 1, bool b_sparse = false);
 
 // Two-sided p-value of Student's t with `dof` degrees of freedom.
 double student_t_p_value(double t, double dof);
