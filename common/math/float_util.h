@@ -27,6 +27,22 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
     return out;
 }
 
+// The shadow ray between two surface points: from `from` offset along from_n to `to` offset
+// along to_n (each normal facing the other point's side), aimed at the offset target itself
+// and stopping just short of it. Aiming along the direction between the un-offset points
+// instead misjudges the distance to the target's plane by offset / cos: at grazing angles
+// the ray then reached the light it was meant to test visibility of (docs/rendering.md).
+inline Ray shadow_ray_between(const Vec3& from, const Vec3& from_n, const Vec3& to,
+                              const Vec3& to_n) {
+    Ray r;
+    r.o = offset_ray_origin(from, from_n);
+    const Vec3 d = offset_ray_origin(to, to_n) - r.o;
+    const float length = std::sqrt(glm::dot(d, d));
+    r.d = length > 0.0f ? d / length : Vec3(0.0f, 0.0f, 1.0f);
+    r.tmax = length * (1.0f - 1e-5f);
+    return r;
+}
+
 inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 inline float sqr(float x) { return x * x; }
 

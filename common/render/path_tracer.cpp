@@ -96,13 +96,12 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
     if (max_component(f) <= 0.0f) return Rgb(0.0f);
 
     Ray shadow;
-    shadow.o = offset_ray_origin(sp.p, ng);
-    shadow.d = wi;
     if (ls->environment) {
+        shadow.o = offset_ray_origin(sp.p, ng);
+        shadow.d = wi;
         shadow.tmax = kInfinity;
     } else {
-        const Vec3 target = offset_ray_origin(ls->p, glm::dot(ls->n, -wi) > 0.0f ? ls->n : -ls->n);
-        shadow.tmax = glm::dot(target - shadow.o, wi) * (1.0f - 1e-5f);
+        shadow = shadow_ray_between(sp.p, ng, ls->p, glm::dot(ls->n, wi) < 0.0f ? ls->n : -ls->n);
     }
     ++counters.rays;
     if (kernel_.occluded(shadow)) return Rgb(0.0f);

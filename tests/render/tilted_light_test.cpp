@@ -3,6 +3,7 @@
 // image, so they must agree on every 16 x 16 block at 1024 spp, on both backends. Light
 // sampling used to be 15 % darker here and black beyond a curved boundary: shadow rays towards
 // grazing points of the emitter hit the emitter itself (docs/rendering.md, "Shadow rays").
+#include <cstdio>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -65,6 +66,18 @@ TEST_P(TiltedLight, LightBsdfAndMisAgreeOnEveryBlock) {
                << " vs " << r.worst_b << "; image mean p " << r.mean_p;
     };
     const auto light_vs_bsdf = test::compare_batches(light, bsdf, kAlpha, kBlock);
+    const auto mean = [](const std::vector<FloatImage>& images) {
+        double sum = 0.0;
+        for (const FloatImage& img : images)
+            for (float v : img.rgb)
+                sum += v;
+        return sum / double(images.size() * images[0].rgb.size());
+    };
+    std::printf(
+        "%s: image mean light %.5f bsdf %.5f mis %.5f; light vs bsdf min block p %.3g "
+        "(threshold %.3g), mean p %.3g\n",
+        GetParam().scene, mean(light), mean(bsdf), mean(mis), light_vs_bsdf.min_pixel_p,
+        light_vs_bsdf.pixel_threshold, light_vs_bsdf.mean_p);
     EXPECT_TRUE(light_vs_bsdf.agree(kAlpha)) << "light vs bsdf: " << describe(light_vs_bsdf);
     const auto mis_vs_bsdf = test::compare_batches(mis, bsdf, kAlpha, kBlock);
     EXPECT_TRUE(mis_vs_bsdf.agree(kAlpha)) << "mis vs bsdf: " << describe(mis_vs_bsdf);

@@ -75,6 +75,17 @@ float3 pf_offset_ray_origin(float3 p, float3 n) {
                     fabs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
 }
 
+// common/math/float_util.h shadow_ray_between: the segment between the two offset points.
+PfRay pf_shadow_ray_between(float3 from, float3 from_n, float3 to, float3 to_n) {
+    PfRay r;
+    r.o = pf_offset_ray_origin(from, from_n);
+    const float3 d = pf_offset_ray_origin(to, to_n) - r.o;
+    const float len = sqrt(dot(d, d));
+    r.d = len > 0.0f ? d / len : (float3)(0.0f, 0.0f, 1.0f);
+    r.tmax = len * (1.0f - 1e-5f);
+    return r;
+}
+
 // Slab test; returns the entry distance or INFINITY on a miss.
 float pf_box_entry(__global const PfBvhNode* node, float3 o, float3 inv_d, float tmax) {
     const float3 lo = ((float3)(node->lower[0], node->lower[1], node->lower[2]) - o) * inv_d;

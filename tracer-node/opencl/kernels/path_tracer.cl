@@ -58,13 +58,12 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurfa
     const float3 f = pf_bsdf_eval(bsdf, wo_local, wi_local) * fabs(wi_local.z);
     if (pf_max3(f) <= 0.0f) return (float3)(0.0f);
     PfRay shadow;
-    shadow.o = pf_offset_ray_origin(sp->p, ng);
-    shadow.d = wi;
     if (ls.environment) {
+        shadow.o = pf_offset_ray_origin(sp->p, ng);
+        shadow.d = wi;
         shadow.tmax = PF_INFINITY;
     } else {
-        const float3 target = pf_offset_ray_origin(ls.p, dot(ls.n, -wi) > 0.0f ? ls.n : -ls.n);
-        shadow.tmax = dot(target - shadow.o, wi) * (1.0f - 1e-5f);
+        shadow = pf_shadow_ray_between(sp->p, ng, ls.p, dot(ls.n, wi) < 0.0f ? ls.n : -ls.n);
     }
     ++*rays;
     PfHit unused;
