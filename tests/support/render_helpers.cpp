@@ -110,30 +110,38 @@ tracer::BackendKind default_backend() {
     return kind.ok() ? *kind : tracer::BackendKind::embree;
 }
 
-FloatImage render(const SceneModel& scene, const RenderRequest& r) {
+std::vector<FloatImage> render_seeds(const SceneModel& scene, const RenderRequest& r, int count) {
     auto backend = tracer::create_backend(r.backend, {r.threads});
     EXPECT_TRUE(backend.ok()) << (backend.ok() ? "" : backend.error().message);
-    if (!backend.ok()) return {};
+    if (!backend.ok()) return std::vector<FloatImage>(std::size_t(count));
     SceneModel local = scene;  // rendered relative to the camera, as the tools do
     Camera camera = recentre_on_camera(
         local, scene.cameras.empty()
                    ? frame_bounds(world_bounds(scene), float(r.width) / float(r.height))
                    : scene.cameras[0]);
     EXPECT_TRUE((*backend)->set_scene(local).ok());
-    FloatImage image(r.width, r.height);
     std::vector<int> bounds{0};
     bounds.insert(bounds.end(), r.row_splits.begin(), r.row_splits.end());
     bounds.push_back(r.height);
-    for (std::size_t k = 0; k + 1 < bounds.size(); ++k) {
-        tracer::RenderJob job;
-        job.frame = FrameSpec{r.width, r.height, r.frame, r.seed, r.spp, 0, camera};
-        job.integrator = r.integrator;
-        job.y0 = bounds[k];
-        job.y1 = bounds[k + 1];
-        auto stats = (*backend)->render_rows(job, image.row(job.y0));
-        EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
+    std::vector<FloatImage> images;
+    for (int i = 0; i < count; ++i) {
+        FloatImage& image = images.emplace_back(r.width, r.height);
+        for (std::size_t k = 0; k + 1 < bounds.size(); ++k) {
+            tracer::RenderJob job;
+            job.frame =
+                FrameSpec{r.width, r.height, r.frame, r.seed + uint32_t(i), r.spp, 0, camera};
+            job.integrator = r.integrator;
+            job.y0 = bounds[k];
+            job.y1 = bounds[k + 1];
+            auto stats = (*backend)->render_rows(job, image.row(job.y0));
+            EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
+        }
     }
-    return image;
+    return images;
+}
+
+FloatImage render(const SceneModel& scene, const RenderRequest& r) {
+    return std::move(render_seeds(scene, r, 1).front());
 }
 
 SceneModel make_furnace(float emission, float albedo) {

@@ -30,6 +30,10 @@ struct RenderRequest {
 // Renders with the requested backend (Embree by default); fails the test (and returns an
 // empty image) on error.
 FloatImage render(const SceneModel& scene, const RenderRequest& request);
+// `count` renders with seeds request.seed, request.seed + 1, ... through one backend (batch
+// means for the statistical tests without a backend and scene build per batch).
+std::vector<FloatImage> render_seeds(const SceneModel& scene, const RenderRequest& request,
+                                     int count);
 
 // Every surface emits `emission` and reflects with Lambert albedo `albedo`: a sphere inside
 // a spherical enclosure. Every pixel converges to emission / (1 - albedo).
