@@ -66,8 +66,8 @@ float PathTracer::light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp,
 }
 
 Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Frame& frame,
-                              const Vec3& shading_ng, const Vec3& wo_local, PixelSampler& sampler,
-                              SampleCounters& counters) const {
+                              const Vec3& shading_ng, const Vec3& wo_local, const Rgb& sigma_a,
+                              PixelSampler& sampler, SampleCounters& counters) const {
     const Vec2 u_select = sampler.next_2d();
     const Vec2 u_light = sampler.next_2d();
     if (settings_.strategy == LightStrategy::bsdf_only || lights_.empty() || !bsdf.has_non_delta())
@@ -108,7 +108,14 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
     const float weight = settings_.strategy == LightStrategy::light_only
                              ? 1.0f
                              : power_heuristic(pdf_light, bsdf.pdf(wo_local, wi_local));
-    return f * ls->radiance * (weight / pdf_light);
+    // Beer's law along the shadow segment, as a BSDF-sampled path to the same point gets it:
+    // the medium around an opaque vertex, or a dielectric's inside when wi enters it.
+    const Rgb medium = !bsdf.transmissive()         ? sigma_a
+                       : glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material)
+                                                    : Rgb(0.0f);
+    const Rgb transmittance =
+        ls->environment || max_component(medium) <= 0.0f ? Rgb(1.0f) : glm::exp(-medium * dist);
+    return f * transmittance * ls->radiance * (weight / pdf_light);
 }
 
 template <uint32_t kFeatures>
@@ -159,7 +166,8 @@ Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& count
         const Bsdf bsdf(mp);
         const Orientation o = orient(sp, wo, bsdf.transmissive());
         const Vec3 wo_local = o.frame.to_local(wo);
-        radiance += beta * sample_direct(sp, bsdf, o.frame, o.ng, wo_local, sampler, counters);
+        radiance +=
+            beta * sample_direct(sp, bsdf, o.frame, o.ng, wo_local, sigma_a, sampler, counters);
 
         const Vec2 u_lobe = sampler.next_2d();
         const Vec2 u_dir = sampler.next_2d();

@@ -68,9 +68,10 @@ private:
     template <uint32_t kFeatures>
     Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
 
+    // One light sample at sp; sigma_a is the absorption of the medium the path is in.
     Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
-                      const Vec3& shading_ng, const Vec3& wo_local, PixelSampler& sampler,
-                      SampleCounters& counters) const;
+                      const Vec3& shading_ng, const Vec3& wo_local, const Rgb& sigma_a,
+                      PixelSampler& sampler, SampleCounters& counters) const;
     float light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp, const Vec3& origin) const;
 
     const ShadingScene& shading_;

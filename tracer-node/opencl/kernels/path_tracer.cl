@@ -27,9 +27,10 @@ float pf_light_pdf_solid_angle(const PfScene* s, const PfHit* hit, const PfSurfa
     return cos_light > 0.0f ? pdf_area * dist2 / cos_light : 0.0f;
 }
 
+// One light sample at sp; sigma_a is the absorption of the medium the path is in.
 float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurface* sp,
                         const PfBsdf* bsdf, const PfFrame* frame, float3 shading_ng,
-                        float3 wo_local, PfSampler* sampler, uint* rays) {
+                        float3 wo_local, float3 sigma_a, PfSampler* sampler, uint* rays) {
     const float2 u_select = pf_next_2d(sampler);
     const float2 u_light = pf_next_2d(sampler);
     if (fp->strategy == PF_STRATEGY_BSDF_ONLY || pf_lights_empty(s->globals) ||
@@ -41,12 +42,13 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurfa
         return (float3)(0.0f);
     float3 wi;
     float pdf_light = ls.pdf;
+    float dist = PF_INFINITY;
     if (ls.environment) {
         wi = ls.p;
     } else {
         const float3 d = ls.p - sp->p;
         const float dist2 = dot(d, d);
-        const float dist = sqrt(dist2);
+        dist = sqrt(dist2);
         wi = d / dist;
         const float cos_light = fabs(dot(ls.n, wi));
         if (cos_light <= 0.0f || dist2 <= 0.0f) return (float3)(0.0f);
@@ -71,7 +73,15 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurfa
     const float weight = fp->strategy == PF_STRATEGY_LIGHT_ONLY
                              ? 1.0f
                              : pf_power_heuristic(pdf_light, pf_bsdf_pdf(bsdf, wo_local, wi_local));
-    return f * ls.radiance * (weight / pdf_light);
+    // Beer's law along the shadow segment (path_tracer.cpp sample_direct).
+    float3 transmittance = (float3)(1.0f);
+    if (PF_TRANSMISSION && !ls.environment) {
+        const float3 medium = bsdf->w_glass <= 0.0f ? sigma_a
+                              : dot(wi, sp->ng) < 0.0f ? pf_vec3(s->materials[sp->material].sigma_a)
+                                                       : (float3)(0.0f);
+        if (pf_max3(medium) > 0.0f) transmittance = exp(-medium * dist);
+    }
+    return f * transmittance * ls.radiance * (weight / pdf_light);
 }
 
 // Radiance along a camera ray; a non-finite estimate is counted and returned as zero.
@@ -125,7 +135,8 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (!transmissive && dot(wo, ns) <= 0.0f) ns = ng;
         const PfFrame frame = pf_frame_from_normal_tangent(ns, sp.tangent);
         const float3 wo_local = pf_to_local(&frame, wo);
-        radiance += beta * pf_sample_direct(s, fp, &sp, &bsdf, &frame, ng, wo_local, sampler, rays);
+        radiance +=
+            beta * pf_sample_direct(s, fp, &sp, &bsdf, &frame, ng, wo_local, sigma_a, sampler, rays);
 
         const float2 u_lobe = pf_next_2d(sampler);
         const float2 u_dir = pf_next_2d(sampler);
