@@ -29,7 +29,9 @@ void compute_tangents(Mesh& mesh) {
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         const Vec3 n = mesh.normals[i];
         const Frame f = Frame::from_normal_tangent(n, tan[i]);
-        const float w = glm::dot(glm::cross(n, f.t), bitan[i]) < 0.0f ? -1.0f : 1.0f;
+        // glTF: +Y of a normal map is up in the image, towards decreasing v (v = 0 is the top
+        // row), and the bitangent is cross(n, t) * w: w makes it point against dP/dv.
+        const float w = glm::dot(glm::cross(n, f.t), bitan[i]) > 0.0f ? -1.0f : 1.0f;
         mesh.tangents[i] = Vec4(f.t, w);
     }
 }

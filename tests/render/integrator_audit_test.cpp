@@ -7,6 +7,7 @@
 
 #include "common/scene/load/procedural_mesh.h"
 #include "common/scene/load/scene_builder.h"
+#include "common/scene/mesh.h"
 #include "tests/support/render_helpers.h"
 
 namespace pathfarm {
@@ -147,6 +148,53 @@ TEST_P(IntegratorAudit, ShadowRaysInsideAnAbsorbingMediumAreAttenuated) {
                                   << mb.mean_p;
     const auto lb = test::compare_batches(light_only, bsdf_only, kAlpha, 4);
     EXPECT_GE(lb.mean_p, kAlpha) << "light vs bsdf image mean";
+}
+
+// A normal map whose texels all tilt "up" in the image (+Y, the glTF convention) on a quad
+// facing the camera with the image upright, tangents generated as the loaders do: the surface
+// must look brighter lit from above than from below, also under a mirroring node transform
+// (the bitangent follows the determinant). The generated tangents used to flip this.
+TEST_P(IntegratorAudit, NormalMapsTiltTowardsImageUp) {
+    const auto render_lit_from = [&](float light_y, float mirror_x) {
+        SceneBuilder b("tilted-normal-map");
+        Image tilt{"tilt", 2, 2, std::vector<uint8_t>(16, 255)};
+        for (int k = 0; k < 4; ++k) {  // tangent-space normal (0, 0.5, 0.87)
+            tilt.rgba[4 * k] = 128;
+            tilt.rgba[4 * k + 1] = 191;
+            tilt.rgba[4 * k + 2] = 238;
+        }
+        Texture tex;
+        tex.image = b.add_image(std::move(tilt));
+        Material m = make_lambert("wall", Rgb(0.8f));
+        m.normal_texture.texture = b.add_texture(tex);
+        Mesh quad = make_quad(Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, -1, 0), b.add_material(m));
+        std::swap(quad.indices[1], quad.indices[2]);  // (u, -v) faces -z: wind it towards +z
+        std::swap(quad.indices[4], quad.indices[5]);
+        quad.normals.assign(4, Vec3(0, 0, 1));
+        quad.tangents.clear();
+        compute_tangents(quad);  // as the loaders do without a TANGENT attribute
+        b.add_instance(b.add_mesh(std::move(quad)), glm::scale(Mat4(1.0f), Vec3(mirror_x, 1, 1)));
+        const int light = b.add_material(make_emitter("light", Rgb(20.0f)));
+        // A small panel at height light_y in front of the wall, facing it.
+        b.add_instance(b.add_mesh(make_quad(Vec3(0, light_y, 1.0f), Vec3(0.1f, 0, 0),
+                                            Vec3(0, 0.1f, 0), light)),
+                       glm::rotate(Mat4(1.0f), kPi, Vec3(0, 1, 0)) *
+                           glm::translate(Mat4(1.0f), Vec3(0, 0, -2.0f)));
+        b.add_camera(look(Vec3(0, 0, 3.0f), Vec3(0.0f), 20.0f));
+        b.environment().sky = SkyMode::off;
+        test::RenderRequest r;
+        r.width = r.height = 8;
+        r.spp = 64;
+        r.integrator.strategy = LightStrategy::light_only;
+        r.integrator.max_depth = 1;
+        r.backend = GetParam();
+        return mean(test::render(b.finish(), r));
+    };
+    for (const float mirror : {1.0f, -1.0f}) {
+        const double above = render_lit_from(1.0f, mirror), below = render_lit_from(-1.0f, mirror);
+        EXPECT_GT(above, 1.5 * below)
+            << "mirror " << mirror << ": lit from above " << above << ", from below " << below;
+    }
 }
 
 std::vector<tracer::BackendKind> backends() {
