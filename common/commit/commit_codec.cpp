@@ -57,8 +57,18 @@ bool get_floats(const google::protobuf::RepeatedField<float>& f, float* v) {
 void put_ref(pb::TextureRefData* d, const TextureRef& r) {
     d->set_texture(r.texture);
     d->set_texcoord(uint32_t(r.texcoord));
+    if (r.transform.identity()) return;
+    put_floats(d->mutable_uv_offset(), &r.transform.offset[0], 2);
+    d->set_uv_rotation(r.transform.rotation);
+    put_floats(d->mutable_uv_scale(), &r.transform.scale[0], 2);
 }
-TextureRef get_ref(const pb::TextureRefData& d) { return {d.texture(), int(d.texcoord())}; }
+bool get_ref(const pb::TextureRefData& d, TextureRef& r) {
+    r = TextureRef{d.texture(), int(d.texcoord()), {}};
+    r.transform.rotation = d.uv_rotation();
+    if (d.uv_offset().empty() && d.uv_scale().empty()) return true;
+    return get_floats<2>(d.uv_offset(), &r.transform.offset[0]) &&
+           get_floats<2>(d.uv_scale(), &r.transform.scale[0]);
+}
 
 void put_material(pb::MaterialData* d, const Material& m) {
     d->set_name(m.name);
@@ -79,24 +89,29 @@ void put_material(pb::MaterialData* d, const Material& m) {
     put_floats(d->mutable_attenuation_color(), &m.attenuation_color[0], 3);
     d->set_attenuation_distance(m.attenuation_distance);
     d->set_double_sided(m.double_sided);
+    d->set_alpha_mode(uint32_t(m.alpha_mode));
+    d->set_alpha_cutoff(m.alpha_cutoff);
 }
 
 bool get_material(const pb::MaterialData& d, Material& m) {
     m.name = d.name();
-    m.base_color_texture = get_ref(d.base_color_texture());
     m.metallic_factor = d.metallic_factor();
     m.roughness_factor = d.roughness_factor();
-    m.metallic_roughness_texture = get_ref(d.metallic_roughness_texture());
-    m.normal_texture = get_ref(d.normal_texture());
     m.normal_scale = d.normal_scale();
     m.emissive_strength = d.emissive_strength();
-    m.emissive_texture = get_ref(d.emissive_texture());
+    if (d.alpha_mode() >= uint32_t(kAlphaModeCount)) return false;
+    m.alpha_mode = AlphaMode(d.alpha_mode());
+    m.alpha_cutoff = d.alpha_cutoff();
     m.transmission_factor = d.transmission_factor();
     m.ior = d.ior();
     m.specular_factor = d.specular_factor();
     m.attenuation_distance = d.attenuation_distance();
     m.double_sided = d.double_sided();
-    return get_floats<4>(d.base_color_factor(), &m.base_color_factor[0]) &&
+    return get_ref(d.base_color_texture(), m.base_color_texture) &&
+           get_ref(d.metallic_roughness_texture(), m.metallic_roughness_texture) &&
+           get_ref(d.normal_texture(), m.normal_texture) &&
+           get_ref(d.emissive_texture(), m.emissive_texture) &&
+           get_floats<4>(d.base_color_factor(), &m.base_color_factor[0]) &&
            get_floats<3>(d.emissive_factor(), &m.emissive_factor[0]) &&
            get_floats<3>(d.specular_color_factor(), &m.specular_color_factor[0]) &&
            get_floats<3>(d.attenuation_color(), &m.attenuation_color[0]);

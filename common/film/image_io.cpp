@@ -32,6 +32,18 @@ Status write_with_oiio(const std::string& path, const OIIO::ImageSpec& spec, OII
     return {};
 }
 
+// Texture reads keep colour and alpha apart: glTF colour is unassociated (straight) alpha,
+// while OIIO by default multiplies colour by alpha when it reads a PNG, which turned the RGB
+// under transparent texels black (the Khronos AlphaBlendModeTest's OPAQUE check mark).
+const OIIO::ImageSpec& texture_read_config() {
+    static const OIIO::ImageSpec config = [] {
+        OIIO::ImageSpec c;
+        c.attribute("oiio:UnassociatedAlpha", 1);
+        return c;
+    }();
+    return config;
+}
+
 Result<Rgba8Image> read_rgba8_from(std::unique_ptr<OIIO::ImageInput> in, const std::string& name) {
     if (!in)
         return make_error(ErrorCode::parse_error, "{}: cannot decode image ({})", name,
@@ -127,13 +139,17 @@ Result<FloatImage> read_image(const std::string& path) {
 }
 
 Result<Rgba8Image> read_rgba8(const std::string& path) {
-    return read_rgba8_from(OIIO::ImageInput::open(path), path);
+    return read_rgba8_from(OIIO::ImageInput::open(path, &texture_read_config()), path);
 }
 
 Result<Rgba8Image> decode_rgba8(const unsigned char* data, std::size_t size,
                                 const std::string& name_hint) {
     OIIO::Filesystem::IOMemReader reader(data, size);
-    return read_rgba8_from(OIIO::ImageInput::open(name_hint, nullptr, &reader), name_hint);
+    // With a config, OIIO 2.4 reads the proxy from it (the separate argument is then ignored).
+    OIIO::ImageSpec config = texture_read_config();
+    OIIO::Filesystem::IOProxy* proxy = &reader;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    return read_rgba8_from(OIIO::ImageInput::open(name_hint, &config, &reader), name_hint);
 }
 
 }  // namespace pathfarm

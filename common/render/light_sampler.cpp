@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "common/sampling/sampling.h"
+#include "common/scene/alpha.h"
 
 namespace pathfarm {
 namespace {
@@ -88,10 +89,13 @@ std::optional<LightSample> LightSampler::sample(const Vec3& from, float u_select
     const float pmf = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
     ls.pdf = (1.0f - p_environment_) * pmf / tri.area;
     const Material& mat = shading_.model().materials[tri.material];
-    if (mat.emissive_texture.valid()) {  // needs the UV: rebuild the full surface point
+    if (mat.emissive_texture.valid() || mat.alpha_tested()) {  // needs the UV
         SurfacePoint sp = shading_.surface(Hit{0.0f, tri.instance, tri.prim, b.x, b.y});
         sp.p = ls.p;
         ls.radiance = shading_.emitted(sp, glm::normalize(from - ls.p));
+        // A ray meets a cut-out or blended emitter only where (or as often as) it is there.
+        if (mat.alpha_tested())
+            ls.radiance *= alpha_coverage(mat, base_color_alpha(shading_.model(), mat, sp.uv));
     } else {
         const bool front = glm::dot(from - ls.p, tri.n) > 0.0f;
         ls.radiance = front || mat.double_sided ? mat.emission() : Rgb(0.0f);

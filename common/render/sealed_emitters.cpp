@@ -44,7 +44,8 @@ struct UnionFind {
 };
 
 bool is_opaque_occluder(const Material& m) {
-    return !(m.transmission_factor > 0.0f) && !m.is_emissive();
+    // Glass, emitters and cut-out or blended surfaces (alpha) let light through.
+    return !(m.transmission_factor > 0.0f) && !m.is_emissive() && !m.alpha_tested();
 }
 
 // Ray-triangle crossing in double. Returns 1 for a clean crossing at t > 0, 0 for a miss, -1

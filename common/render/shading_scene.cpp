@@ -71,14 +71,15 @@ MaterialPoint ShadingScene::material_point(SurfacePoint& sp) const {
     Vec4 base = m.base_color_factor;
     if (m.base_color_texture.valid())
         base *= sample_image(scene_.texture_image(m.base_color_texture),
-                             scene_.textures[m.base_color_texture.texture].sampler, sp.uv, true);
+                             scene_.textures[m.base_color_texture.texture].sampler,
+                             m.base_color_texture.uv(sp.uv), true);
     mp.base_color = glm::clamp(Rgb(base), Rgb(0.0f), Rgb(1.0f));
     float roughness = m.roughness_factor;
     float metallic = m.metallic_factor;
     if (m.metallic_roughness_texture.valid()) {
         const Vec4 mr = sample_image(scene_.texture_image(m.metallic_roughness_texture),
                                      scene_.textures[m.metallic_roughness_texture.texture].sampler,
-                                     sp.uv, false);
+                                     m.metallic_roughness_texture.uv(sp.uv), false);
         roughness *= mr.y;
         metallic *= mr.z;
     }
@@ -90,9 +91,9 @@ MaterialPoint ShadingScene::material_point(SurfacePoint& sp) const {
     mp.specular = m.specular_factor;
     mp.specular_color = m.specular_color_factor;
     if (m.normal_texture.valid() && glm::dot(sp.tangent, sp.tangent) > 0.0f) {
-        const Vec4 t =
-            sample_image(scene_.texture_image(m.normal_texture),
-                         scene_.textures[m.normal_texture.texture].sampler, sp.uv, false);
+        const Vec4 t = sample_image(scene_.texture_image(m.normal_texture),
+                                    scene_.textures[m.normal_texture.texture].sampler,
+                                    m.normal_texture.uv(sp.uv), false);
         Vec3 tn = Vec3(t) * 2.0f - Vec3(1.0f);
         tn.x *= m.normal_scale;
         tn.y *= m.normal_scale;
@@ -111,7 +112,8 @@ Rgb ShadingScene::emitted(const SurfacePoint& sp, const Vec3& wo) const {
     Rgb le = m.emission();
     if (m.emissive_texture.valid())
         le *= Rgb(sample_image(scene_.texture_image(m.emissive_texture),
-                               scene_.textures[m.emissive_texture.texture].sampler, sp.uv, true));
+                               scene_.textures[m.emissive_texture.texture].sampler,
+                               m.emissive_texture.uv(sp.uv), true));
     return le;
 }
 

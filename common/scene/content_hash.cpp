@@ -40,6 +40,9 @@ void hash_material(Hasher& h, const Material& m) {
                                 &m.normal_texture, &m.emissive_texture}) {
         h.pod(t->texture);
         h.pod(t->texcoord);
+        h.pod(t->transform.offset);
+        h.pod(t->transform.rotation);
+        h.pod(t->transform.scale);
     }
     h.pod(m.metallic_factor);
     h.pod(m.roughness_factor);
@@ -53,6 +56,8 @@ void hash_material(Hasher& h, const Material& m) {
     h.pod(m.attenuation_color);
     h.pod(m.attenuation_distance);
     h.pod(m.double_sided);
+    h.pod(m.alpha_mode);
+    h.pod(m.alpha_cutoff);
 }
 
 void hash_mesh(Hasher& h, const Mesh& m) {

@@ -9,6 +9,11 @@
 
 namespace pathfarm {
 
+// glTF alphaMode: OPAQUE ignores alpha; MASK keeps a hit where alpha >= alpha_cutoff; BLEND
+// keeps a hit with probability alpha (stochastic transparency: common/scene/alpha.h).
+enum class AlphaMode : uint8_t { opaque, mask, blend };
+inline constexpr int kAlphaModeCount = 3;
+
 struct Material {
     std::string name;
 
@@ -37,8 +42,19 @@ struct Material {
 
     bool double_sided = false;  // emission from both faces; otherwise front (CCW) face only
 
+    // Alpha = base_color_factor.a * base colour texture alpha.
+    AlphaMode alpha_mode = AlphaMode::opaque;
+    float alpha_cutoff = 0.5f;  // glTF default
+
     Rgb emission() const { return emissive_factor * emissive_strength; }
     bool is_emissive() const { return max_component(emission()) > 0.0f; }
+    // Whether some hits on it may be discarded (its alpha can fall below "fully there").
+    bool alpha_tested() const {
+        if (alpha_mode == AlphaMode::opaque) return false;
+        const float a = base_color_factor.a;
+        return base_color_texture.valid() ||
+               (alpha_mode == AlphaMode::mask ? !(a >= alpha_cutoff) : !(a >= 1.0f));
+    }
 };
 
 }  // namespace pathfarm

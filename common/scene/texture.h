@@ -32,11 +32,32 @@ struct Texture {
     Sampler sampler;
 };
 
+// KHR_texture_transform: uv' = offset + R(rotation) (scale * uv), with R the spec's
+// [cos sin; -sin cos] (a positive rotation turns the image clockwise in uv, glTF's v pointing
+// down). The identity by default.
+struct UvTransform {
+    Vec2 offset{0.0f};
+    float rotation = 0.0f;  // radians
+    Vec2 scale{1.0f};
+
+    bool identity() const {
+        return offset == Vec2(0.0f) && rotation == 0.0f && scale == Vec2(1.0f);
+    }
+    Vec2 apply(Vec2 uv) const {
+        if (identity()) return uv;
+        const float c = std::cos(rotation), s = std::sin(rotation);
+        const Vec2 q = scale * uv;
+        return offset + Vec2(c * q.x + s * q.y, -s * q.x + c * q.y);
+    }
+};
+
 // A material's use of a texture. texture < 0 means "no texture".
 struct TextureRef {
     int texture = -1;
     int texcoord = 0;  // only TEXCOORD_0 is kept by the loaders
+    UvTransform transform;
     bool valid() const { return texture >= 0; }
+    Vec2 uv(Vec2 mesh_uv) const { return transform.apply(mesh_uv); }
 };
 
 // Filtered lookup at uv (glTF: (0,0) is the top-left corner of the image). Returns RGBA in

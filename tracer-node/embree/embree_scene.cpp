@@ -8,6 +8,7 @@
 #include <embree3/rtcore.h>
 
 #include "common/math/transform.h"
+#include "common/scene/alpha.h"
 
 namespace pathfarm::tracer {
 namespace {
@@ -31,6 +32,29 @@ const char* embree_error_name(RTCError code) {
     }
 }
 
+// What an alpha-tested geometry's filter needs (glTF MASK / BLEND: common/scene/alpha.h).
+struct AlphaGeometry {
+    const SceneModel* scene;
+    const Mesh* mesh;
+};
+
+// Intersection and occlusion filter: rejects hits the material's alpha discards. For instanced
+// meshes the ray is in object space; the BLEND hash only needs to be deterministic per ray.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* g = static_cast<const AlphaGeometry*>(args->geometryUserPtr);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        RTCRayN* ray = args->ray;
+        RTCHitN* hit = args->hit;
+        const Vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
+        const Vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
+        if (!alpha_keeps_hit(*g->scene, *g->mesh, RTCHitN_primID(hit, n, i), RTCHitN_u(hit, n, i),
+                             RTCHitN_v(hit, n, i), o, d, RTCRayN_tfar(ray, n, i)))
+            args->valid[i] = 0;
+    }
+}
+
 }  // namespace
 
 struct EmbreeScene::Impl {
@@ -38,6 +62,7 @@ struct EmbreeScene::Impl {
     RTCScene top = nullptr;
     std::vector<RTCScene> children;
     std::vector<uint32_t> geometry_instance;  // top-level geomID -> SceneModel instance
+    std::vector<std::unique_ptr<AlphaGeometry>> alpha_geometries;  // filter user data
     std::mutex error_mutex;
     std::string first_error;  // first error wins (STYLE.md §5.4)
 
@@ -56,7 +81,7 @@ struct EmbreeScene::Impl {
                 std::string(embree_error_name(code)) + ": " + (message ? message : "");
     }
 
-    RTCGeometry make_triangles(const Mesh& mesh, const Mat4* to_world) {
+    RTCGeometry make_triangles(const SceneModel& scene, const Mesh& mesh, const Mat4* to_world) {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
@@ -74,6 +99,13 @@ struct EmbreeScene::Impl {
             v[3 * i + 2] = p.z;
         }
         std::copy(mesh.indices.begin(), mesh.indices.end(), idx);
+        if (scene.materials[std::size_t(mesh.material)].alpha_tested()) {
+            alpha_geometries.push_back(
+                std::make_unique<AlphaGeometry>(AlphaGeometry{&scene, &mesh}));
+            rtcSetGeometryUserData(geom, alpha_geometries.back().get());
+            rtcSetGeometryIntersectFilterFunction(geom, &alpha_filter);
+            rtcSetGeometryOccludedFilterFunction(geom, &alpha_filter);
+        }
         rtcCommitGeometry(geom);
         return geom;
     }
@@ -97,13 +129,13 @@ struct EmbreeScene::Impl {
             const Mesh& mesh = scene.meshes[inst.mesh];
             if (mesh.triangle_count() == 0) continue;
             if (uses[inst.mesh] == 1) {
-                attach(make_triangles(mesh, &inst.transform), i);
+                attach(make_triangles(scene, mesh, &inst.transform), i);
                 continue;
             }
             if (mesh_scene[inst.mesh] == nullptr) {
                 RTCScene child = rtcNewScene(device);
                 rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
-                RTCGeometry geom = make_triangles(mesh, nullptr);
+                RTCGeometry geom = make_triangles(scene, mesh, nullptr);
                 rtcAttachGeometry(child, geom);
                 rtcReleaseGeometry(geom);
                 rtcCommitScene(child);

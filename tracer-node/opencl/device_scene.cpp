@@ -16,7 +16,7 @@ namespace {
 
 static_assert(sizeof(PfBvhNode) == sizeof(BvhNode), "PfBvhNode mirrors BvhNode");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
-                  sizeof(PfMaterial) == 25 * 4 && sizeof(PfTexture) == 6 * 4 &&
+                  sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 6 * 4 &&
                   sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == (35 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
               "device structs are packed 4-byte fields (device_types.h)");
@@ -54,6 +54,14 @@ PfInstance pack_instance(const Instance& inst) {
     return out;
 }
 
+// UvTransform::apply as the affine map the kernels apply.
+void store_uv_transform(const UvTransform& t, float out[6]) {
+    const float c = std::cos(t.rotation), s = std::sin(t.rotation);
+    const float m[6] = {c * t.scale.x,  s * t.scale.y, t.offset.x,
+                        -s * t.scale.x, c * t.scale.y, t.offset.y};
+    std::copy(m, m + 6, out);
+}
+
 PfMaterial pack_material(const Material& m) {
     PfMaterial out{};
     for (int c = 0; c < 4; ++c)
@@ -78,6 +86,12 @@ PfMaterial pack_material(const Material& m) {
     out.emissive_texture = m.emissive_texture.texture;
     out.double_sided = m.double_sided ? 1u : 0u;
     out.emissive = m.is_emissive() ? 1u : 0u;
+    out.alpha_mode = uint32_t(m.alpha_mode);
+    out.alpha_cutoff = m.alpha_cutoff;
+    store_uv_transform(m.base_color_texture.transform, out.base_color_uv);
+    store_uv_transform(m.metallic_roughness_texture.transform, out.metallic_roughness_uv);
+    store_uv_transform(m.normal_texture.transform, out.normal_uv);
+    store_uv_transform(m.emissive_texture.transform, out.emissive_uv);
     return out;
 }
 
@@ -180,9 +194,12 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
         pm.triangle_count = uint32_t(mesh.triangle_count());
         pm.first_vertex = uint32_t(out.positions.size() / 3);
         pm.material = mesh.material;
-        pm.flags = (mesh.normals.size() == nv && nv > 0 ? PF_MESH_NORMALS : 0u) |
-                   (mesh.uvs.size() == nv && nv > 0 ? PF_MESH_UVS : 0u) |
-                   (mesh.tangents.size() == nv && nv > 0 ? PF_MESH_TANGENTS : 0u);
+        pm.flags =
+            (mesh.normals.size() == nv && nv > 0 ? PF_MESH_NORMALS : 0u) |
+            (mesh.uvs.size() == nv && nv > 0 ? PF_MESH_UVS : 0u) |
+            (mesh.tangents.size() == nv && nv > 0 ? PF_MESH_TANGENTS : 0u) |
+            (scene.materials[std::size_t(mesh.material)].alpha_tested() ? PF_MESH_ALPHA_TESTED
+                                                                        : 0u);
         for (std::size_t v = 0; v < nv; ++v) {
             const Vec3 zero3(0.0f);
             const Vec3& p = mesh.positions[v];

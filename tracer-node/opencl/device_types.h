@@ -17,6 +17,7 @@ typedef int32_t pf_int;
 #define PF_MESH_NORMALS 1u
 #define PF_MESH_UVS 2u
 #define PF_MESH_TANGENTS 4u
+#define PF_MESH_ALPHA_TESTED 8u  // its material's alpha may discard hits (Material::alpha_tested)
 
 // LightStrategy, in the same order as common/render/path_tracer.h.
 #define PF_STRATEGY_MIS 0
@@ -75,6 +76,14 @@ typedef struct {
     pf_int emissive_texture;
     pf_uint double_sided;
     pf_uint emissive;
+    pf_uint alpha_mode;  // AlphaMode: 0 opaque, 1 mask, 2 blend
+    float alpha_cutoff;
+    // KHR_texture_transform of each texture use as a 2x3 affine map, row-major:
+    // uv' = (m0 u + m1 v + m2, m3 u + m4 v + m5).
+    float base_color_uv[6];
+    float metallic_roughness_uv[6];
+    float normal_uv[6];
+    float emissive_uv[6];
 } PfMaterial;
 
 // A texture with its image resolved; width 0 means the image is missing (samples are white).

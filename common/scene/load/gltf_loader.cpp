@@ -73,7 +73,37 @@ const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* 
     return it == map.end() ? nullptr : &it->second;
 }
 
-TextureRef texture_ref(int index, int texcoord) { return TextureRef{index, texcoord}; }
+Vec2 vec2_value(const tinygltf::Value& obj, const char* key, Vec2 fallback) {
+    if (!obj.IsObject() || !obj.Has(key)) return fallback;
+    const tinygltf::Value& v = obj.Get(key);
+    if (!v.IsArray() || v.ArrayLen() < 2) return fallback;
+    return {float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble())};
+}
+
+// A material's texture use (TextureInfo, NormalTextureInfo): index, set and KHR_texture_transform.
+// Only TEXCOORD_0 is kept, so a use of another set warns and reads set 0.
+template <typename Info>
+TextureRef texture_ref(const Info& info, const std::string& path, const std::string& material) {
+    TextureRef ref{info.index, 0, {}};
+    if (ref.texture < 0) return ref;
+    int set = info.texCoord;
+    if (const auto* t = extension(info.extensions, "KHR_texture_transform")) {
+        ref.transform.offset = vec2_value(*t, "offset", Vec2(0.0f));
+        ref.transform.rotation = number(*t, "rotation", 0.0f);
+        ref.transform.scale = vec2_value(*t, "scale", Vec2(1.0f));
+        if (t->Has("texCoord")) set = int(number(*t, "texCoord", 0.0f));
+    }
+    if (set != 0)
+        spdlog::warn("{}: material \"{}\": texture {} uses TEXCOORD_{}; only TEXCOORD_0 is read",
+                     path, material, ref.texture, set);
+    return ref;
+}
+
+AlphaMode alpha_mode(const std::string& mode) {
+    if (mode == "MASK") return AlphaMode::mask;
+    if (mode == "BLEND") return AlphaMode::blend;
+    return AlphaMode::opaque;  // "OPAQUE", the default, and anything unknown
+}
 
 class GltfImporter {
 public:
@@ -143,18 +173,18 @@ void GltfImporter::import_materials() {
         const auto& pbr = gm.pbrMetallicRoughness;
         for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c)
             m.base_color_factor[c] = float(pbr.baseColorFactor[c]);
-        m.base_color_texture =
-            texture_ref(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord);
+        m.base_color_texture = texture_ref(pbr.baseColorTexture, path_, gm.name);
         m.metallic_factor = float(pbr.metallicFactor);
         m.roughness_factor = float(pbr.roughnessFactor);
-        m.metallic_roughness_texture =
-            texture_ref(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord);
-        m.normal_texture = texture_ref(gm.normalTexture.index, gm.normalTexture.texCoord);
+        m.metallic_roughness_texture = texture_ref(pbr.metallicRoughnessTexture, path_, gm.name);
+        m.normal_texture = texture_ref(gm.normalTexture, path_, gm.name);
         m.normal_scale = float(gm.normalTexture.scale);
         for (int c = 0; c < 3 && c < int(gm.emissiveFactor.size()); ++c)
             m.emissive_factor[c] = float(gm.emissiveFactor[c]);
-        m.emissive_texture = texture_ref(gm.emissiveTexture.index, gm.emissiveTexture.texCoord);
+        m.emissive_texture = texture_ref(gm.emissiveTexture, path_, gm.name);
         m.double_sided = gm.doubleSided;
+        m.alpha_mode = alpha_mode(gm.alphaMode);
+        m.alpha_cutoff = float(gm.alphaCutoff);
         if (const auto* e = extension(gm.extensions, "KHR_materials_emissive_strength"))
             m.emissive_strength = number(*e, "emissiveStrength", 1.0f);
         if (const auto* e = extension(gm.extensions, "KHR_materials_transmission"))

@@ -50,7 +50,7 @@ private:
 TextureRef ObjImporter::load_texture(const std::string& name) {
     if (name.empty()) return {};
     if (const auto it = texture_cache_.find(name); it != texture_cache_.end())
-        return {it->second, 0};
+        return {it->second, 0, {}};
     std::string file = name;
     std::replace(file.begin(), file.end(), '\\', '/');
     auto image = read_rgba8((std::filesystem::path(dir_) / file).string());
@@ -68,7 +68,7 @@ TextureRef ObjImporter::load_texture(const std::string& name) {
         texture = int(scene_.textures.size()) - 1;
     }
     texture_cache_[name] = texture;
-    return {texture, 0};
+    return {texture, 0, {}};
 }
 
 Material ObjImporter::convert_material(const tinyobj::material_t& om) {

@@ -114,6 +114,13 @@ void repair_material(Material& m) {
     }
     m.emissive_strength = clamp_or(m.emissive_strength, 0.0f, 1e6f, 1.0f);
     if (!(m.attenuation_distance > 0.0f)) m.attenuation_distance = kInfinity;
+    m.alpha_cutoff = clamp_or(m.alpha_cutoff, 0.0f, 1.0f, 0.5f);
+    for (TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                          &m.emissive_texture}) {
+        const UvTransform& x = t->transform;
+        if (!finite_vec(x.offset) || !finite_vec(x.scale) || !std::isfinite(x.rotation))
+            t->transform = UvTransform{};  // a NaN transform would make every lookup NaN
+    }
 }
 
 }  // namespace

@@ -125,6 +125,10 @@ bool pf_intersect_triangle(float3 o, float3 d, float3 p0, float3 p1, float3 p2, 
     return true;
 }
 
+// Defined in shading.cl: whether a material's alpha keeps a candidate hit (glTF MASK / BLEND).
+bool pf_alpha_keeps_hit(const PfScene* s, __global const PfMesh* mesh, uint prim, float u, float v,
+                        float3 o, float3 d, float t);
+
 // Traverses one instance's mesh BVH with the ray in object space (t stays the world t because
 // the direction is transformed, not renormalised). Updates hit; any_hit stops at the first.
 bool pf_intersect_mesh(const PfScene* s, uint instance, float3 o, float3 d, float tmax,
@@ -155,6 +159,9 @@ bool pf_intersect_mesh(const PfScene* s, uint instance, float3 o, float3 d, floa
                 const float3 p2 = pf_load3(pos + 3 * idx[3 * tri + 2]);
                 float t, u, v;
                 if (pf_intersect_triangle(o, d, p0, p1, p2, tmax, &t, &u, &v)) {
+                    if ((mesh->flags & PF_MESH_ALPHA_TESTED) &&
+                        !pf_alpha_keeps_hit(s, mesh, tri, u, v, o, d, t))
+                        continue;
                     found = true;
                     if (any_hit) return true;
                     tmax = t;

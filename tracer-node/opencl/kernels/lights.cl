@@ -100,10 +100,14 @@ bool pf_sample_light(const PfScene* s, float3 from, float u_select, float2 u, Pf
     const float pmf = tri->cdf - (k > 0 ? s->lights[k - 1].cdf : 0.0f);
     ls->pdf = (1.0f - g->p_environment) * pmf / tri->area;
     __global const PfMaterial* mat = &s->materials[tri->material];
-    if (mat->emissive_texture >= 0) {  // needs the UV: rebuild the surface point
+    const bool alpha_tested = (s->meshes[s->instances[tri->instance].mesh].flags &
+                               PF_MESH_ALPHA_TESTED) != 0u;
+    if (mat->emissive_texture >= 0 || alpha_tested) {  // needs the UV: rebuild the surface point
         PfSurface sp = pf_surface(s, tri->instance, tri->prim, b.x, b.y);
         sp.p = ls->p;
         ls->radiance = pf_emitted(s, &sp, normalize(from - ls->p));
+        // light_sampler.cpp: a ray meets a cut-out or blended emitter only where it is there.
+        if (alpha_tested) ls->radiance *= pf_alpha_coverage(mat, pf_base_color_alpha(s, mat, sp.uv));
     } else {
         const bool front = dot(from - ls->p, ls->n) > 0.0f;
         ls->radiance = front || mat->double_sided ? pf_vec3(mat->emission) : (float3)(0.0f);

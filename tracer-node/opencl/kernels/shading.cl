@@ -146,15 +146,62 @@ PfSurface pf_surface(const PfScene* s, uint instance, uint prim, float u, float 
     return sp;
 }
 
+// KHR_texture_transform (device_types.h: the affine map of a texture use).
+float2 pf_uv(__global const float* m, float2 uv) {
+    return (float2)(m[0] * uv.x + m[1] * uv.y + m[2], m[3] * uv.x + m[4] * uv.y + m[5]);
+}
+
+// common/scene/alpha.h: the base colour's alpha and whether a candidate hit is kept.
+float pf_base_color_alpha(const PfScene* s, __global const PfMaterial* m, float2 uv) {
+    float a = m->base_color[3];
+    if (m->base_color_texture >= 0)
+        a *= pf_sample_texture(s, m->base_color_texture, pf_uv(m->base_color_uv, uv), true).w;
+    return a;
+}
+
+float pf_alpha_coverage(__global const PfMaterial* m, float alpha) {
+    if (m->alpha_mode == 1u) return alpha >= m->alpha_cutoff ? 1.0f : 0.0f;
+    if (m->alpha_mode == 2u) return clamp(alpha, 0.0f, 1.0f);
+    return 1.0f;
+}
+
+// alpha_hash: hash_words over the ray, the candidate distance and the primitive.
+float pf_alpha_hash(float3 o, float3 d, float t, uint prim) {
+    const uint w[8] = {as_uint(o.x), as_uint(o.y), as_uint(o.z), as_uint(d.x),
+                       as_uint(d.y), as_uint(d.z), as_uint(t),   prim};
+    uint h = 0x9e3779b9U;
+    for (int k = 0; k < 8; ++k)
+        h = pf_hash_u32(h ^ pf_hash_u32(w[k] + 0x632be5abU));
+    return (float)(h >> 8) * 0x1p-24f;
+}
+
+bool pf_alpha_keeps_hit(const PfScene* s, __global const PfMesh* mesh, uint prim, float u, float v,
+                        float3 o, float3 d, float t) {
+    __global const PfMaterial* m = &s->materials[mesh->material];
+    float2 uv = (float2)(0.0f);
+    if (mesh->flags & PF_MESH_UVS) {
+        __global const uint* idx = s->indices + mesh->first_index + 3 * prim;
+        const uint base = mesh->first_vertex;
+        uv = (1.0f - u - v) * vload2(base + idx[0], s->uvs) + u * vload2(base + idx[1], s->uvs) +
+             v * vload2(base + idx[2], s->uvs);
+    }
+    const float alpha = pf_base_color_alpha(s, m, uv);
+    if (m->alpha_mode == 1u) return alpha >= m->alpha_cutoff;
+    if (m->alpha_mode == 2u) return pf_alpha_hash(o, d, t, prim) < alpha;
+    return true;
+}
+
 PfMaterialPoint pf_material_point(const PfScene* s, PfSurface* sp) {
     __global const PfMaterial* m = &s->materials[sp->material];
     PfMaterialPoint mp;
     float4 base = vload4(0, m->base_color);
-    if (m->base_color_texture >= 0) base *= pf_sample_texture(s, m->base_color_texture, sp->uv, true);
+    if (m->base_color_texture >= 0)
+        base *= pf_sample_texture(s, m->base_color_texture, pf_uv(m->base_color_uv, sp->uv), true);
     mp.base_color = clamp(base.xyz, 0.0f, 1.0f);
     float roughness = m->roughness, metallic = m->metallic;
     if (m->metallic_roughness_texture >= 0) {
-        const float4 mr = pf_sample_texture(s, m->metallic_roughness_texture, sp->uv, false);
+        const float4 mr = pf_sample_texture(s, m->metallic_roughness_texture,
+                                            pf_uv(m->metallic_roughness_uv, sp->uv), false);
         roughness *= mr.y;
         metallic *= mr.z;
     }
@@ -166,7 +213,8 @@ PfMaterialPoint pf_material_point(const PfScene* s, PfSurface* sp) {
     mp.specular = m->specular;
     mp.specular_color = pf_vec3(m->specular_color);
     if (m->normal_texture >= 0 && dot(sp->tangent, sp->tangent) > 0.0f) {
-        const float4 t = pf_sample_texture(s, m->normal_texture, sp->uv, false);
+        const float4 t =
+            pf_sample_texture(s, m->normal_texture, pf_uv(m->normal_uv, sp->uv), false);
         float3 tn = t.xyz * 2.0f - (float3)(1.0f);
         tn.x *= m->normal_scale;
         tn.y *= m->normal_scale;
@@ -184,6 +232,7 @@ float3 pf_emitted(const PfScene* s, const PfSurface* sp, float3 wo) {
     if (m->emissive == 0u) return (float3)(0.0f);
     if (m->double_sided == 0u && dot(wo, sp->ng) <= 0.0f) return (float3)(0.0f);
     float3 le = pf_vec3(m->emission);
-    if (m->emissive_texture >= 0) le *= pf_sample_texture(s, m->emissive_texture, sp->uv, true).xyz;
+    if (m->emissive_texture >= 0)
+        le *= pf_sample_texture(s, m->emissive_texture, pf_uv(m->emissive_uv, sp->uv), true).xyz;
     return le;
 }

@@ -26,6 +26,30 @@ TEST(CommitCodec, RoundTripsASnapshotExactly) {
     EXPECT_TRUE(d->is_snapshot);
 }
 
+TEST(CommitCodec, AlphaModesAndTextureTransformsRoundTrip) {
+    SceneModel model = make_default_scene();
+    Material& m = model.materials.at(0);
+    m.alpha_mode = AlphaMode::mask;
+    m.alpha_cutoff = 0.3f;
+    m.emissive_texture.transform = UvTransform{Vec2(0.5f, -0.25f), 1.25f, Vec2(2.0f, 0.5f)};
+    model.materials.at(1).alpha_mode = AlphaMode::blend;
+    const Commit c = make_snapshot(scene_state_from_model(model), 3);
+    const EncodedCommit e = encode_commit(c);
+    auto d = decode_commit(e.commit, e.chunks);
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    ReplicaState a, b;
+    ASSERT_TRUE(apply_commit(a, c).ok());
+    ASSERT_TRUE(apply_commit(b, *d).ok());
+    EXPECT_EQ(content_hash(a.scene), content_hash(b.scene));
+    const Material& back = b.scene.materials.at(0);
+    EXPECT_EQ(back.alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(back.alpha_cutoff, 0.3f);
+    EXPECT_EQ(back.emissive_texture.transform.offset, Vec2(0.5f, -0.25f));
+    EXPECT_EQ(back.emissive_texture.transform.rotation, 1.25f);
+    EXPECT_EQ(back.emissive_texture.transform.scale, Vec2(2.0f, 0.5f));
+    EXPECT_EQ(b.scene.materials.at(1).alpha_mode, AlphaMode::blend);
+}
+
 TEST(CommitCodec, BulkPayloadsTravelInBoundedChunks) {
     const EncodedCommit e = encode_commit(big_commit(), 8192);
     EXPECT_GT(e.chunks.size(), 10u);

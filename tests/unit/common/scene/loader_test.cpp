@@ -146,6 +146,41 @@ TEST(SceneLoader, GltfVolumeIorSpecularAndCamera) {
     EXPECT_EQ(Vec3(s->instances[0].transform[3]), Vec3(1, 2, 3));
 }
 
+TEST(SceneLoader, GltfAlphaModesAndTextureTransforms) {
+    const std::string dir = test::scratch_dir();
+    const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    write_file(dir + "/tri.bin", std::string(reinterpret_cast<const char*>(tri), sizeof(tri)));
+    write_file(dir + "/alpha.gltf",
+               R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_texture_transform"],
+      "buffers":[{"uri":"tri.bin","byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],
+      "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+      "images":[{"uri":"missing.png"}],"textures":[{"source":0}],
+      "materials":[{"alphaMode":"MASK","alphaCutoff":0.25,"pbrMetallicRoughness":{"baseColorTexture":{"index":0,
+          "extensions":{"KHR_texture_transform":{"offset":[0.5,0.25],"rotation":1.5,"scale":[2,3]}}}}},
+        {"alphaMode":"MASK"},{"alphaMode":"BLEND","normalTexture":{"index":0,
+          "extensions":{"KHR_texture_transform":{"scale":[4,4]}}}},{"alphaMode":"OPAQUE"},{}],
+      "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
+      "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})");
+    auto s = load_scene(dir + "/alpha.gltf");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    ASSERT_EQ(s->materials.size(), 5u);
+    const Material& mask = s->materials[0];
+    EXPECT_EQ(mask.alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(mask.alpha_cutoff, 0.25f);
+    EXPECT_EQ(mask.base_color_texture.transform.offset, Vec2(0.5f, 0.25f));
+    EXPECT_EQ(mask.base_color_texture.transform.rotation, 1.5f);
+    EXPECT_EQ(mask.base_color_texture.transform.scale, Vec2(2.0f, 3.0f));
+    EXPECT_EQ(s->materials[1].alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(s->materials[1].alpha_cutoff, 0.5f) << "glTF's default cutoff";
+    EXPECT_EQ(s->materials[2].alpha_mode, AlphaMode::blend);
+    EXPECT_EQ(s->materials[2].normal_texture.transform.scale, Vec2(4.0f));
+    EXPECT_TRUE(s->materials[2].base_color_texture.transform.identity());
+    EXPECT_EQ(s->materials[3].alpha_mode, AlphaMode::opaque);
+    EXPECT_EQ(s->materials[4].alpha_mode, AlphaMode::opaque);
+    EXPECT_FALSE(s->materials[3].alpha_tested());
+    EXPECT_TRUE(mask.alpha_tested());
+}
+
 TEST(SceneLoader, TruncatedAndCorruptFilesAreErrors) {
     PF_REQUIRE_SCENES(scenes);
     const std::string dir = test::scratch_dir();

@@ -42,5 +42,19 @@ TEST(Texture, SrgbDecodingAndMissingImage) {
     EXPECT_NEAR(linear_to_srgb(srgb_to_linear(0.3f)), 0.3f, 1e-5f);
 }
 
+// KHR_texture_transform: uv' = T * R * S * uv with R = [cos sin; -sin cos] (the spec's matrix).
+TEST(UvTransform, FollowsTheSpecMatrix) {
+    UvTransform t;
+    EXPECT_TRUE(t.identity());
+    EXPECT_EQ(t.apply(Vec2(0.3f, 0.7f)), Vec2(0.3f, 0.7f));
+    t.offset = Vec2(0.5f, 0.25f);
+    t.rotation = 0.5f * kPi;
+    t.scale = Vec2(2.0f, 3.0f);
+    // scale: (0.2, 0.6); rotate: (0.2 cos + 0.6 sin, -0.2 sin + 0.6 cos) = (0.6, -0.2); offset.
+    const Vec2 uv = t.apply(Vec2(0.1f, 0.2f));
+    EXPECT_NEAR(uv.x, 1.1f, 1e-6f);
+    EXPECT_NEAR(uv.y, 0.05f, 1e-6f);
+}
+
 }  // namespace
 }  // namespace pathfarm

@@ -61,6 +61,11 @@ void random_edit(SceneGraph& g, Pcg32& rng, std::vector<uint32_t>& nodes) {
             Material m = s.materials.at(id);
             m.base_color_factor = Vec4(rng.next_float(), rng.next_float(), rng.next_float(), 1.0f);
             m.roughness_factor = rng.next_float();
+            m.alpha_mode = AlphaMode(rng.next_u32() % uint32_t(kAlphaModeCount));
+            m.alpha_cutoff = rng.next_float();
+            m.base_color_texture.transform.offset = Vec2(rng.next_float(), rng.next_float());
+            m.base_color_texture.transform.rotation = rng.next_float() * 6.0f;
+            m.normal_texture.transform.scale = Vec2(1.0f + rng.next_float(), 2.0f);
             (void)g.set_material(id, std::move(m));
             break;
         }
