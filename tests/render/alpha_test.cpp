@@ -251,6 +251,33 @@ TEST_P(Alpha, KhronosAlphaBlendModeTestShowsItsCheckMarks) {
     }
 }
 
+// The Khronos TextureCoordinateTest: its README places the image's top-left region (uv 0..0.4)
+// on the quad labelled "Top Left" at the top left, which its template colours yellow (and
+// top right orange, bottom left blue, bottom right green).
+// A v axis read upwards would swap top and bottom.
+TEST_P(Alpha, KhronosTextureCoordinateTestKeepsItsCorners) {
+    PF_REQUIRE_SCENES(scenes);
+    auto scene = load_scene(scenes + "/texture-coordinate-test/TextureCoordinateTest.gltf");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    test::RenderRequest r;
+    r.width = r.height = 64;
+    r.spp = 8;
+    r.backend = GetParam();
+    const FloatImage img = test::render(*scene, r);
+    const auto corner = [&](int cx, int cy) {
+        Vec3 sum(0.0f);
+        for (int y = cy - 3; y < cy + 3; ++y)
+            for (int x = cx - 3; x < cx + 3; ++x)
+                sum += img.pixel(x, y);
+        return sum / 36.0f;
+    };
+    const Vec3 tl = corner(10, 10), tr = corner(54, 10), bl = corner(10, 54), br = corner(54, 54);
+    EXPECT_TRUE(tl.x > 0.3f && tl.y > 0.3f && tl.z < 0.1f) << "top left yellow";
+    EXPECT_TRUE(tr.x > 0.3f && tr.y < 0.5f * tr.x && tr.z < 0.1f) << "top right orange";
+    EXPECT_TRUE(bl.z > 0.3f && bl.x < 0.1f) << "bottom left blue";
+    EXPECT_TRUE(br.y > 0.3f && br.x < 0.1f && br.z < 0.1f) << "bottom right green";
+}
+
 std::vector<tracer::BackendKind> backends() {
 #ifdef PATHFARM_HAS_OPENCL
     return {tracer::BackendKind::embree, tracer::BackendKind::opencl};
