@@ -21,14 +21,11 @@
 #include "common/film/jpeg_codec.h"
 #include "common/film/tonemap.h"
 #include "common/math/transform.h"
-#include "common/net/framing.h"
 #include "common/net/session.h"
-#include "pathfarm/wire/v1/envelope.pb.h"
+#include "common/wire/messages.h"
 
 namespace pathfarm::client {
 namespace {
-
-namespace pb = ::pathfarm::wire::v1;
 
 class FrameQueue {
 public:
@@ -76,13 +73,10 @@ struct DecodedFrame {
     std::optional<FloatImage> linear;
 };
 
-Result<DecodedFrame> decode_frame(const pb::EncodedFrame& f) {
-    DecodedFrame d{int(f.width()), int(f.height()), {}, {}};
-    if (d.width <= 0 || d.height <= 0 || d.width > 16384 || d.height > 16384)
-        return make_error(ErrorCode::parse_error, "frame {}: size {}x{}", f.frame(), d.width,
-                          d.height);
-    if (f.codec() == pb::FRAME_CODEC_FLOAT_ZSTD) {
-        auto rgb = decompress_floats(f.data(), std::size_t(d.width) * d.height * 3);
+Result<DecodedFrame> decode_image(const wire::EncodedFrame& f) {
+    DecodedFrame d{int(f.width), int(f.height), {}, {}};  // sizes checked by wire::decode_frame
+    if (f.codec == wire::FrameCodec::float_zstd) {
+        auto rgb = decompress_floats(f.data, std::size_t(d.width) * d.height * 3);
         if (!rgb) return rgb.error();
         d.linear = FloatImage(d.width, d.height);
         d.linear->rgb = std::move(*rgb);
@@ -90,15 +84,15 @@ Result<DecodedFrame> decode_frame(const pb::EncodedFrame& f) {
         return d;
     }
     int w = 0, h = 0;
-    if (f.codec() == pb::FRAME_CODEC_JPEG) {
-        auto jpeg = decode_jpeg(f.data());
+    if (f.codec == wire::FrameCodec::jpeg) {
+        auto jpeg = decode_jpeg(f.data);
         if (!jpeg) return jpeg.error();
         w = jpeg->width;
         h = jpeg->height;
         d.srgb8 = std::move(jpeg->rgb);
-    } else if (f.codec() == pb::FRAME_CODEC_PNG) {
-        auto png = decode_rgba8(reinterpret_cast<const unsigned char*>(f.data().data()),
-                                f.data().size(), "frame.png");
+    } else {  // png
+        auto png = decode_rgba8(reinterpret_cast<const unsigned char*>(f.data.data()),
+                                f.data.size(), "frame.png");
         if (!png) return png.error();
         w = png->width;
         h = png->height;
@@ -106,23 +100,20 @@ Result<DecodedFrame> decode_frame(const pb::EncodedFrame& f) {
         for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
             for (int c = 0; c < 3; ++c)
                 d.srgb8[i * 3 + c] = png->rgba[i * 4 + c];
-    } else {
-        return make_error(ErrorCode::unsupported, "frame {}: codec {} not supported", f.frame(),
-                          int(f.codec()));
     }
     if (w != d.width || h != d.height)
-        return make_error(ErrorCode::parse_error, "frame {}: image is {}x{}, frame {}x{}",
-                          f.frame(), w, h, d.width, d.height);
+        return make_error(ErrorCode::parse_error, "frame {}: image is {}x{}, frame {}x{}", f.frame,
+                          w, h, d.width, d.height);
     return d;
 }
 
-Status write_frame(const ClientOptions& o, const pb::EncodedFrame& f, const DecodedFrame& d) {
+Status write_frame(const ClientOptions& o, const wire::EncodedFrame& f, const DecodedFrame& d) {
     if (o.out_dir.empty()) return {};
-    const std::string base = fmt::format("{}/frame_{:06d}", o.out_dir, f.frame());
+    const std::string base = fmt::format("{}/frame_{:06d}", o.out_dir, f.frame);
     if (d.linear) return write_image(base + ".exr", *d.linear);
     // Keep the coordinator's bytes.
-    std::ofstream(base + (f.codec() == pb::FRAME_CODEC_PNG ? ".png" : ".jpg"), std::ios::binary)
-        << f.data();
+    std::ofstream(base + (f.codec == wire::FrameCodec::png ? ".png" : ".jpg"), std::ios::binary)
+        << f.data;
     return {};
 }
 
@@ -131,22 +122,16 @@ public:
     InputSender(net::Session& session, LatencyStats& stats) : session_(session), stats_(stats) {}
 
     void send(const std::optional<Mat4>& pose, const std::array<float, 5>& move, bool action) {
-        pb::Envelope e;
-        e.set_version(net::kProtocolVersion);
-        auto* in = e.mutable_input();
         const auto now = LatencyStats::Clock::now();
-        in->set_sequence(++sequence_);
-        in->set_timestamp_us(uint64_t(
-            std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count()));
-        if (pose)
-            in->set_camera_to_world(
-                std::string(reinterpret_cast<const char*>(&(*pose)[0][0]), sizeof(Mat4)));
-        if (move != std::array<float, 5>{})
-            for (float m : move)
-                in->add_move(m);
-        in->set_action(action);
+        wire::Input in;
+        in.sequence = ++sequence_;
+        in.timestamp_us = uint64_t(
+            std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count());
+        in.camera_to_world = pose;
+        if (move != std::array<float, 5>{}) in.move.assign(move.begin(), move.end());
+        in.action = action;
         stats_.input_sent(sequence_, now);
-        session_.send(e.SerializeAsString());
+        session_.send(wire::encode_input(in));
     }
 
 private:
@@ -158,13 +143,13 @@ private:
 int codec_for(OutputFormat f) {
     switch (f) {
         case OutputFormat::exr:
-            return int(pb::FRAME_CODEC_FLOAT_ZSTD);
+            return int(wire::FrameCodec::float_zstd);
         case OutputFormat::png:
-            return int(pb::FRAME_CODEC_PNG);
+            return int(wire::FrameCodec::png);
         case OutputFormat::jpeg:
             break;
     }
-    return int(pb::FRAME_CODEC_JPEG);
+    return int(wire::FrameCodec::jpeg);
 }
 
 }  // namespace
@@ -189,8 +174,103 @@ Result<std::map<uint64_t, Mat4>> read_camera_script(const std::string& path) {
     return poses;
 }
 
-Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>& stop) {
+// One run of the client: frames in (shown, written, counted), input out.
+class ClientRun {
+public:
+    ClientRun(const ClientOptions& o, std::map<uint64_t, Mat4> script, net::Session& session,
+              LatencyStats& stats, GameWindow* window)
+        : o_(o),
+          script_(std::move(script)),
+          stats_(stats),
+          window_(window),
+          input_(session, stats),
+          sheet_(o.frames > 0 ? (o.frames + 15) / 16 : 1) {
+        if (auto first = script_.find(0); first != script_.end())
+            input_.send(first->second, {}, false);
+    }
+
+    // Shows one received frame; false when the client is done (its frame count reached, or
+    // the window failed).
+    Result<bool> on_frame(const std::string& bytes) {
+        auto f = wire::decode_frame(bytes);
+        if (!f) {  // a bad frame is skipped, the client goes on
+            spdlog::error("{}", f.error().message);
+            return true;
+        }
+        stats_.frame_arrived(f->frame, f->last_input_sequence, Clock::now());
+        if (report_.frames == 0) timer_.reset();  // between frames, not connection time
+        auto frame = decode_image(*f);
+        if (!frame) {
+            spdlog::error("{}", frame.error().message);
+            return true;
+        }
+        if (Status s = write_frame(o_, *f, *frame); !s) spdlog::error("{}", s.error().message);
+        if (window_) {
+            if (Status s = window_->show(frame->width, frame->height, frame->srgb8); !s)
+                return s.error();
+            if (report_.frames + 1 == o_.screenshot_frame && !o_.screenshot.empty())
+                if (Status s = window_->screenshot(o_.screenshot); !s) return s.error();
+        }
+        sheet_.add(uint64_t(report_.frames), frame->width, frame->height, frame->srgb8);
+        ++report_.frames;
+        if (auto next = script_.find(f->frame + 1); next != script_.end())
+            input_.send(next->second, {}, false);
+        return !(o_.frames > 0 && report_.frames >= o_.frames);
+    }
+
+    // Gathers input continuously (the window, or a scripted player that turns and acts once a
+    // second) and sends it at most every 16 ms, and with every action. False: quit.
+    bool poll() {
+        const auto now = Clock::now();
+        const double dt = std::chrono::duration<double>(now - last_poll_).count();
+        last_poll_ = now;
+        if (window_) {
+            const WindowInput w = window_->poll(dt);
+            if (w.quit) return false;
+            for (std::size_t k = 0; k < 5; ++k)
+                pending_.move[k] += w.move[k];
+            pending_.action = pending_.action || w.action;
+        } else if (report_.frames > 0) {
+            pending_.move[3] += float(o_.turn_rate * dt);
+            if (o_.action_each_second && now - last_action_ >= std::chrono::seconds(1)) {
+                pending_.action = true;
+                last_action_ = now;
+            }
+        }
+        if (pending_.any() && (pending_.action || now - last_send_ >= kInputPeriod)) {
+            input_.send(std::nullopt, pending_.move, pending_.action);
+            pending_ = WindowInput{};
+            last_send_ = now;
+        }
+        return true;
+    }
+
+    ClientReport finish() {
+        report_.seconds = timer_.seconds();
+        report_.latency = stats_.summary();
+        if (!o_.contact_sheet.empty())
+            if (Status s = sheet_.write(o_.contact_sheet); !s)
+                spdlog::error("{}", s.error().message);
+        return report_;
+    }
+    int frames() const { return report_.frames; }
+
+private:
     using Clock = LatencyStats::Clock;
+    static constexpr auto kInputPeriod = std::chrono::milliseconds(16);
+    const ClientOptions& o_;
+    std::map<uint64_t, Mat4> script_;
+    LatencyStats& stats_;
+    GameWindow* window_;
+    InputSender input_;
+    ContactSheet sheet_;
+    ClientReport report_;
+    Timer timer_;
+    Clock::time_point last_poll_ = Clock::now(), last_send_ = last_poll_, last_action_ = last_poll_;
+    WindowInput pending_;
+};
+
+Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::map<uint64_t, Mat4> script;
     if (!o.script.empty()) {
         auto s = read_camera_script(o.script);
@@ -220,70 +300,19 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
     config.on_closed = [queue](const std::string& reason) { queue->close(reason); };
     auto session = net.connect_sync(config);
     if (!session) return session.error();
-    InputSender input(**session, stats);
-    if (auto first = script.find(0); first != script.end()) input.send(first->second, {}, false);
-    ClientReport report;
-    ContactSheet sheet(o.frames > 0 ? (o.frames + 15) / 16 : 1);
-    Timer timer;
-    // Input is gathered continuously and sent at most every 16 ms (and with every action).
-    constexpr auto kInputPeriod = std::chrono::milliseconds(16);
-    Clock::time_point last_poll = Clock::now(), last_send = last_poll, last_action = last_poll;
-    WindowInput pending;
+    ClientRun run(o, std::move(script), **session, stats, window.get());
     while (!stop && !queue->drained()) {
         if (auto bytes = queue->pop_for(std::chrono::milliseconds(4))) {
-            pb::Envelope e;
-            if (!e.ParseFromString(*bytes) || !e.has_frame()) continue;
-            const pb::EncodedFrame& f = e.frame();
-            stats.frame_arrived(f.frame(), f.last_input_sequence(), Clock::now());
-            if (report.frames == 0) timer.reset();  // between frames, not connection time
-            auto frame = decode_frame(f);
-            if (!frame) {
-                spdlog::error("{}", frame.error().message);
-                continue;
-            }
-            if (Status s = write_frame(o, f, *frame); !s) spdlog::error("{}", s.error().message);
-            if (window) {
-                if (Status s = window->show(frame->width, frame->height, frame->srgb8); !s)
-                    return s.error();
-                if (report.frames + 1 == o.screenshot_frame && !o.screenshot.empty())
-                    if (Status s = window->screenshot(o.screenshot); !s) return s.error();
-            }
-            sheet.add(uint64_t(report.frames), frame->width, frame->height, frame->srgb8);
-            ++report.frames;
-            if (auto next = script.find(f.frame() + 1); next != script.end())
-                input.send(next->second, {}, false);
-            if (o.frames > 0 && report.frames >= o.frames) break;
+            auto more = run.on_frame(*bytes);
+            if (!more) return more.error();
+            if (!*more) break;
         }
-        const auto now = Clock::now();
-        const double dt = std::chrono::duration<double>(now - last_poll).count();
-        last_poll = now;
-        if (window) {
-            const WindowInput w = window->poll(dt);
-            if (w.quit) break;
-            for (std::size_t k = 0; k < 5; ++k)
-                pending.move[k] += w.move[k];
-            pending.action = pending.action || w.action;
-        } else if (report.frames > 0) {  // a scripted player: turns, and acts once a second
-            pending.move[3] += float(o.turn_rate * dt);
-            if (o.action_each_second && now - last_action >= std::chrono::seconds(1)) {
-                pending.action = true;
-                last_action = now;
-            }
-        }
-        if (pending.any() && (pending.action || now - last_send >= kInputPeriod)) {
-            input.send(std::nullopt, pending.move, pending.action);
-            pending = WindowInput{};
-            last_send = now;
-        }
+        if (!run.poll()) break;
     }
-    report.seconds = timer.seconds();
-    report.latency = stats.summary();
-    if (!o.contact_sheet.empty())
-        if (Status s = sheet.write(o.contact_sheet); !s) spdlog::error("{}", s.error().message);
-    if (report.frames == 0 && !stop)
+    if (run.frames() == 0 && !stop)
         return make_error(ErrorCode::io_error, "no frames: {}", queue->reason());
     (*session)->close("client done");
-    return report;
+    return run.finish();
 }
 
 }  // namespace pathfarm::client

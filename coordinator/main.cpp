@@ -13,6 +13,7 @@
 #include "coordinator/animation/animator.h"
 #include "coordinator/animation/skinning.h"
 #include "coordinator/export/obj_export.h"
+#include "coordinator/frame/farm_stats.h"
 #include "coordinator/offline/offline_driver.h"
 #include "coordinator/session/farm_coordinator.h"
 
@@ -86,27 +87,34 @@ int farm(pathfarm::SceneModel scene, const std::string& clip_name, const std::st
     return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// Everything the command line asks for.
+struct Command {
     std::string scene_spec, export_path, clip_name, secret_file, stats_csv;
     double export_at = 0.0, fps = 30.0;
     int frames = -1;
-    bool offline_mode = false;
+    bool offline_mode = false, no_converge = false;
     pathfarm::coord::OfflineOptions o;
     pathfarm::coord::FarmOptions f;
-    CLI::App app{
-        "pathfarm-coordinator: scene graph, animation, BVH maintenance, commits and the farm"};
-    app.add_option("--scene", scene_spec, "Scene file (.gltf .glb .obj .ply) or builtin:NAME")
+    CLI::Option* tracer_port = nullptr;
+};
+
+std::string columns(std::string_view list) { return " (columns: " + std::string(list) + ")"; }
+
+void add_scene_options(CLI::App& app, Command& c) {
+    app.add_option("--scene", c.scene_spec, "Scene file (.gltf .glb .obj .ply) or builtin:NAME")
         ->required();
-    app.add_option("--frames", frames,
+    app.add_option("--frames", c.frames,
                    "Frames to run (offline default 60; farm default: until stopped)");
-    app.add_option("--fps", fps, "Game clock: frame f shows time f / fps")->capture_default_str();
-    app.add_option("--clip", clip_name, "Animation clip by name or index (default: the first)");
-    app.add_option("--stats-csv", stats_csv,
-                   "One row per frame (columns differ between farm and --offline)");
-    // The farm.
-    auto* tracer_port =
+    app.add_option("--fps", c.fps, "Game clock: frame f shows time f / fps")->capture_default_str();
+    app.add_option("--clip", c.clip_name, "Animation clip by name or index (default: the first)");
+    app.add_option("--stats-csv", c.stats_csv,
+                   "One row per frame" + columns(pathfarm::coord::kFrameStatsColumns) +
+                       "; with --offline" + columns(pathfarm::coord::kOfflineStatsColumns));
+}
+
+void add_farm_options(CLI::App& app, Command& c) {
+    pathfarm::coord::FarmOptions& f = c.f;
+    c.tracer_port =
         app.add_option("--tracer-port", f.tracer_port, "Run the farm: port for tracers (0: any)");
     app.add_option("--client-port", f.client_port, "Port for clients (0: any)")
         ->capture_default_str();
@@ -122,30 +130,32 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::IsMember(
             {"none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive", "ours"}));
-    app.add_option(
-        "--record-costs", f.record_costs,
-        "Per frame and work unit: frame,unit,cost_us (record with one tracer, for the simulator)");
-    app.add_option("--secret-file", secret_file,
+    app.add_option("--record-costs", f.record_costs,
+                   "Per frame and work unit, for the simulator (record with one tracer)" +
+                       columns(pathfarm::coord::kUnitCostColumns));
+    app.add_option("--secret-file", c.secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
     app.add_option("--tracer-stats-csv", f.tracer_stats_csv,
-                   "Per tracer and frame: frame,tracer,first_row,rows,render_ms");
+                   "Per tracer and frame" + columns(pathfarm::coord::kTracerStatsColumns));
     app.add_option("--stages-csv", f.stages_csv,
-                   "Per frame: send, prepare-next, wait-for-tiles and assembly times");
+                   "Per frame: the frame loop's stages" + columns(pathfarm::coord::kStageColumns));
     app.add_option("--dump-frames", f.dump_frames,
                    "Folder for every assembled frame as linear float PFM");
     app.add_option("--deadline-ms", f.deadline_ms, "Re-issue rows still missing after this long")
         ->capture_default_str();
     app.add_option("--min-tracers", f.min_tracers, "Tracers to wait for before the first frame")
         ->capture_default_str();
-    // The real-time loop (docs/realtime.md).
+}
+
+void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
+    pathfarm::coord::FarmOptions& f = c.f;
     app.add_option("--target-fps", f.target_fps,
                    "Frame rate to hold by pacing and workload scaling (0: --fps)")
         ->capture_default_str();
     app.add_flag("--fixed-spp", f.fixed_spp,
                  "No pacing and no workload scaling: every frame at --spp and full size, as fast "
                  "as the farm goes");
-    bool no_converge = false;
-    app.add_flag("--no-converge", no_converge,
+    app.add_flag("--no-converge", c.no_converge,
                  "Send each frame's own samples (no blending with reprojected history)");
     app.add_option("--min-rr-scale", f.min_rr_scale,
                    "Workload scaling's floor on the Russian-roulette survival scale")
@@ -166,45 +176,63 @@ int main(int argc, char** argv) {
     app.add_option("--jpeg-quality", f.jpeg_quality, "Quality of JPEG frames to clients")
         ->capture_default_str()
         ->check(CLI::Range(1, 100));
-    // Offline loop and pose export.
-    app.add_flag("--offline", offline_mode,
+}
+
+void add_offline_options(CLI::App& app, Command& c) {  // offline loop and pose export
+    app.add_flag("--offline", c.offline_mode,
                  "Run the frame loop without a network, with an in-process replica");
-    app.add_option("--rebuild-factor", o.rebuild_factor,
+    app.add_option("--rebuild-factor", c.o.rebuild_factor,
                    "Rebuild a refitted BVH past this SAH ratio")
         ->capture_default_str();
-    app.add_flag("--bvh-nodes", o.bvh_nodes,
+    app.add_flag("--bvh-nodes", c.o.bvh_nodes,
                  "Offline: the replica asks for BVH nodes, as OpenCL tracers do");
-    auto* at = app.add_option("--export-at", export_at,
+    auto* at = app.add_option("--export-at", c.export_at,
                               "Export the pose at this time of the clip's own timeline");
-    app.add_option("--export", export_path,
+    app.add_option("--export", c.export_path,
                    "OBJ file for --export-at (world-space posed triangles)")
         ->needs(at);
     at->needs("--export");
-    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-coordinator"))
-        return *exit_code;
-    const bool farm_mode = tracer_port->count() > 0;
-    if (export_path.empty() && !offline_mode && !farm_mode) {
+}
+
+int run(Command& c) {
+    const bool farm_mode = c.tracer_port->count() > 0;
+    if (c.export_path.empty() && !c.offline_mode && !farm_mode) {
         std::fprintf(
             stderr,
             "pathfarm-coordinator: nothing to do (use --tracer-port, --offline or --export-at)\n");
         return 2;
     }
-    auto scene = pathfarm::load_scene(scene_spec);
+    auto scene = pathfarm::load_scene(c.scene_spec);
     if (!scene) return fail(scene.error());
-    if (!export_path.empty()) {
-        if (const int rc = export_pose(*scene, clip_name, export_at, export_path);
-            rc != 0 || (!offline_mode && !farm_mode))
+    if (!c.export_path.empty()) {
+        if (const int rc = export_pose(*scene, c.clip_name, c.export_at, c.export_path);
+            rc != 0 || (!c.offline_mode && !farm_mode))
             return rc;
     }
     if (farm_mode) {
-        f.frames = std::max(frames, 0);
-        f.fps = fps;
-        f.stats_csv = stats_csv;
-        f.converge = !no_converge;
-        return farm(std::move(*scene), clip_name, secret_file, f);
+        c.f.frames = std::max(c.frames, 0);
+        c.f.fps = c.fps;
+        c.f.stats_csv = c.stats_csv;
+        c.f.converge = !c.no_converge;
+        return farm(std::move(*scene), c.clip_name, c.secret_file, c.f);
     }
-    o.frames = frames < 0 ? 60 : frames;
-    o.fps = fps;
-    o.stats_csv = stats_csv;
-    return offline(std::move(*scene), clip_name, o);
+    c.o.frames = c.frames < 0 ? 60 : c.frames;
+    c.o.fps = c.fps;
+    c.o.stats_csv = c.stats_csv;
+    return offline(std::move(*scene), c.clip_name, c.o);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Command c;
+    CLI::App app{
+        "pathfarm-coordinator: scene graph, animation, BVH maintenance, commits and the farm"};
+    add_scene_options(app, c);
+    add_farm_options(app, c);
+    add_realtime_options(app, c);
+    add_offline_options(app, c);
+    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-coordinator"))
+        return *exit_code;
+    return run(c);
 }

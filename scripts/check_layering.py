@@ -17,6 +17,8 @@ ALLOWED = {
     "common/commit": ["common/base", "common/math", "common/scene", "proto"],
     "common/render": ["common/base", "common/math", "common/sampling", "common/scene"],
     "common/net": ["common/base", "proto"],
+    "common/wire": ["common/base", "common/math", "common/scene", "common/commit", "common/net",
+                    "proto"],
     "common/cli": ["common/base"],
     "coordinator/balance": ["common/base"],
     "coordinator": ["common", "proto"],
@@ -36,6 +38,17 @@ RESTRICTED = {
     "SDL": ["client/", "tests/"],
     "turbojpeg.h": ["common/film/jpeg_codec.cpp"],
 }
+
+# quoted project headers that only some files may include
+RESTRICTED_LOCAL = {
+    # The commit codec's protobuf side: only the codec's own .cpp files and common/wire's.
+    "common/commit/codec_internal.h": ["common/commit/op_codec.cpp", "common/commit/field_codec.cpp",
+                                       "common/commit/commit_codec.cpp", "common/wire/messages.cpp"],
+}
+# files in common that may include protobuf headers (*.pb.h)
+PROTOBUF_IN_COMMON = ("common/commit/commit_codec.cpp", "common/commit/op_codec.cpp",
+                      "common/commit/field_codec.cpp", "common/commit/codec_internal.h",
+                      "common/net/", "common/wire/")
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 SOURCE_DIRS = ["common", "coordinator", "tracer-node", "client", "tools", "tests", "bench"]
@@ -86,9 +99,14 @@ def check(root):
                                 if inc.startswith(prefix) and not any(rel.startswith(o) for o in owners):
                                     errors.append(f"{rel}:{lineno}: <{inc}> may only be included from {', '.join(owners)}")
                             continue
-                        if inc.endswith(".pb.h") and rel.startswith("common/") and not (
-                                rel == "common/commit/commit_codec.cpp" or rel.startswith("common/net/")):
-                            errors.append(f"{rel}:{lineno}: \"{inc}\": in common only commit_codec.cpp and net/ see protobuf")
+                        if inc in RESTRICTED_LOCAL and rel not in RESTRICTED_LOCAL[inc]:
+                            errors.append(f"{rel}:{lineno}: \"{inc}\" may only be included from "
+                                          f"{', '.join(RESTRICTED_LOCAL[inc])}")
+                            continue
+                        if inc.endswith(".pb.h") and rel.startswith("common/") and not rel.startswith(
+                                PROTOBUF_IN_COMMON):
+                            errors.append(f"{rel}:{lineno}: \"{inc}\": in common only the commit codec, net/ "
+                                          "and wire/ see protobuf")
                             continue
                         if "/" not in inc:
                             errors.append(f"{rel}:{lineno}: \"{inc}\": write includes from the repository root")

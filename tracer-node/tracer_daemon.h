@@ -30,7 +30,7 @@ struct TracerOptions {
 // How many times slower than its real speed the tracer renders `frame` (slowdown and hiccups).
 double frame_slowdown(const TracerOptions& o, uint64_t frame);
 
-inline constexpr int kRowsPerWorkUnit = 4;
+// Work units (common/base/work_unit.h) per tile sent back.
 inline constexpr int kUnitsPerTile = 4;
 
 // Runs until `stop` becomes true (or the reconnect budget is spent). Returns an error only for

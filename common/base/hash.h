@@ -4,23 +4,18 @@
 #include <cstdint>
 #include <initializer_list>
 
+#include "common/base/hash_shared.h"
+
 namespace pathfarm {
 
-// A 32-bit integer finaliser with good avalanche (Wellons' "lowbias32", public domain).
-constexpr uint32_t hash_u32(uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
-}
+// A 32-bit integer finaliser with good avalanche (hash_shared.h, which OpenCL reads too).
+constexpr uint32_t hash_u32(uint32_t x) { return pf_hash_u32(x); }
 
 // Order-dependent combination of several 32-bit words into one well-mixed word.
 constexpr uint32_t hash_words(std::initializer_list<uint32_t> words) {
-    uint32_t h = 0x9e3779b9U;
+    uint32_t h = PF_HASH_WORDS_START;
     for (uint32_t w : words)
-        h = hash_u32(h ^ hash_u32(w + 0x632be5abU));
+        h = pf_hash_fold(h, w);
     return h;
 }
 

@@ -10,7 +10,8 @@
 
 namespace pathfarm::net {
 
-inline constexpr uint32_t kProtocolVersion = 1;
+// 2: truncation became its own message (FrameTruncation), FrameAssignment.truncate_at retired.
+inline constexpr uint32_t kProtocolVersion = 2;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // What a coordinator accepts from tracers (tiles of a whole frame at 4K stay far below) and
 // from clients (input only); what peers accept from the coordinator (commit chunks, frames).

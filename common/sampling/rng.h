@@ -7,30 +7,15 @@
 
 #include "common/base/hash.h"
 #include "common/math/types.h"
+#include "common/sampling/sampler_shared.h"
 
 namespace pathfarm {
 
-inline uint32_t reverse_bits(uint32_t x) {
-    x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
-    x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
-    x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
-    x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
-    return (x << 16) | (x >> 16);
-}
-
+// The scrambling primitives live in sampler_shared.h, which the OpenCL kernels read too.
+inline uint32_t reverse_bits(uint32_t x) { return pf_reverse_bits(x); }
 // Maps 32 random bits to [0, 1) with 24 bits of precision (never returns 1).
-inline float bits_to_unit_float(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }
-
-// The Laine–Karras permutation (Burley 2020, "Practical Hash-based Owen Scrambling"): bit j
-// of the result flips depending only on the seed and on bits below j.
-inline uint32_t laine_karras(uint32_t x, uint32_t seed) {
-    x += seed;
-    x ^= x * 0x6c50b47cU;
-    x ^= x * 0xb82f1e52U;
-    x ^= x * 0xc7afe638U;
-    x ^= x * 0x8d22f6e6U;
-    return x;
-}
+inline float bits_to_unit_float(uint32_t bits) { return pf_bits_to_unit_float(bits); }
+inline uint32_t laine_karras(uint32_t x, uint32_t seed) { return pf_laine_karras(x, seed); }
 
 // Owen scrambling in base 2: bit j flips depending on the seed and on the bits above j.
 inline uint32_t nested_uniform_scramble(uint32_t x, uint32_t seed) {
@@ -90,15 +75,15 @@ inline uint32_t reversed_sobol_dim1_of_reversed(uint32_t w) {
 class PixelSampler {
 public:
     PixelSampler(uint32_t x, uint32_t y, uint32_t frame, uint32_t sample, uint32_t seed)
-        : pixel_hash_(hash_words({x, y, frame, seed})), reversed_sample_(reverse_bits(sample)) {}
+        : pixel_hash_(pf_hash_words4(x, y, frame, seed)), reversed_sample_(reverse_bits(sample)) {}
 
     Vec2 next_2d() {
-        const uint32_t pair_seed = hash_u32(pixel_hash_ ^ (dimension_pair_++ * 0x9e3779b9U));
+        const uint32_t pair_seed = pf_pair_seed(pixel_hash_, dimension_pair_++);
         const uint32_t w = laine_karras(reversed_sample_, pair_seed);
         const uint32_t a =
-            reverse_bits(laine_karras(reverse_bits(w), hash_u32(pair_seed ^ 0x68bc21ebU)));
+            reverse_bits(laine_karras(reverse_bits(w), pf_x_scramble_seed(pair_seed)));
         const uint32_t b = reverse_bits(laine_karras(detail::reversed_sobol_dim1_of_reversed(w),
-                                                     hash_u32(pair_seed ^ 0x02e5be93U)));
+                                                     pf_y_scramble_seed(pair_seed)));
         return {bits_to_unit_float(a), bits_to_unit_float(b)};
     }
     float next_1d() { return next_2d().x; }

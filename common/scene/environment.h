@@ -9,6 +9,7 @@ namespace pathfarm {
 // `automatic` implements exactly that; built-in scenes may force the sun/sky on (a window
 // letting the sun into a lit room) or off (analytic test enclosures).
 enum class SkyMode : uint8_t { automatic, on, off };
+inline constexpr int kSkyModeCount = 3;
 
 struct Environment {
     SkyMode sky = SkyMode::automatic;

@@ -18,7 +18,9 @@ struct Image {
 };
 
 enum class WrapMode : uint8_t { repeat, clamp_to_edge, mirrored_repeat };
+inline constexpr int kWrapModeCount = 3;
 enum class FilterMode : uint8_t { nearest, linear };
+inline constexpr int kFilterModeCount = 2;
 
 struct Sampler {
     FilterMode filter = FilterMode::linear;  // glTF magFilter; we do not mip-map (path tracing

@@ -99,6 +99,7 @@ private:
 class CostPredictive final : public Balancer {
 public:
     std::string name() const override { return "cost-predictive"; }
+    bool steals_mid_frame() const override { return true; }
     std::vector<RowRange> assign(const BalanceInput& in) override {
         const int units = work_units(in.height);
         if (!have_last_split(in) || int(in.unit_cost.size()) != units)

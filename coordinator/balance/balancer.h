@@ -34,6 +34,9 @@ class Balancer {
 public:
     virtual ~Balancer() = default;
     virtual std::string name() const = 0;
+    // Whether the scheme also re-issues rows inside a frame: a tracer that ran out takes part
+    // of another's rows (coordinator/balance/steal.h).
+    virtual bool steals_mid_frame() const { return false; }
     // One range per tracer, contiguous, in order, covering [0, height) exactly once, cut on
     // work-unit boundaries.
     virtual std::vector<RowRange> assign(const BalanceInput& input) = 0;

@@ -3,9 +3,9 @@
 
 #include <vector>
 
-namespace pathfarm::coord {
+#include "common/base/work_unit.h"
 
-inline constexpr int kRowsPerWorkUnit = 4;
+namespace pathfarm::coord {
 
 struct RowRange {
     int y0 = 0;

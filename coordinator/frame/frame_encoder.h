@@ -6,10 +6,11 @@
 
 #include "common/base/result.h"
 #include "common/film/film.h"
+#include "common/wire/frame_codec.h"
 
 namespace pathfarm::coord {
 
-enum class FrameCodec : int { png = 1, float_zstd = 2, jpeg = 3 };  // wire FrameCodec values
+using wire::FrameCodec;
 
 Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec, int jpeg_quality = 90);
 // Picks the first codec of a client's list that this coordinator can encode (default JPEG).

@@ -1,17 +1,13 @@
 // Offline frame loop.
 #include "coordinator/offline/offline_driver.h"
 
-#include <fstream>
-
 #include <spdlog/spdlog.h>
 
 #include "common/base/timer.h"
 #include "common/commit/commit_codec.h"
-#include "coordinator/accel/accel_updater.h"
 #include "coordinator/commit/bvh_ops.h"
-#include "coordinator/commit/commit_builder.h"
-#include "coordinator/query/ray_query.h"
-#include "coordinator/scene_graph/scene_graph.h"
+#include "coordinator/frame/farm_stats.h"
+#include "coordinator/frame/frame_pipeline.h"
 
 namespace pathfarm::coord {
 namespace {
@@ -38,25 +34,6 @@ bool replicate(ReplicaState& replica, const Commit& commit, const SceneState& tr
     return content_hash(replica.scene) == content_hash(truth);
 }
 
-class CsvWriter {
-public:
-    explicit CsvWriter(const std::string& path) {
-        if (path.empty()) return;
-        out_.open(path);
-        out_ << "frame,commit_bytes,animate_ms,accel_ms,commit_ms,dynamic_tris,replica_ok\n";
-    }
-    bool ok() const { return !out_.is_open() || out_.good(); }
-    void row(const OfflineFrameStats& s) {
-        if (!out_.is_open()) return;
-        out_ << s.frame << ',' << s.commit_bytes << ',' << s.animate_ms << ',' << s.accel_ms << ','
-             << s.commit_ms << ',' << s.dynamic_tris << ',' << (s.replica_ok ? 1 : 0) << '\n';
-        out_.flush();
-    }
-
-private:
-    std::ofstream out_;
-};
-
 }  // namespace
 
 Result<std::vector<OfflineFrameStats>> run_offline(SceneModel scene, const OfflineOptions& o) {
@@ -66,38 +43,27 @@ Result<std::vector<OfflineFrameStats>> run_offline(SceneModel scene, const Offli
     if (o.clip && (*o.clip < 0 || *o.clip >= int(scene.animations.size())))
         return make_error(ErrorCode::invalid_argument, "--clip {}: scene has {} clips", *o.clip,
                           scene.animations.size());
-    CsvWriter csv(o.stats_csv);
-    if (!csv.ok()) return make_error(ErrorCode::io_error, "{}: cannot write", o.stats_csv);
-    SceneGraph graph(std::move(scene));
-    if (o.clip) graph.set_playing_clip(*o.clip);
-    AccelUpdater accel(o.rebuild_factor);
-    RayQueryService queries;
+    CsvWriter csv(o.stats_csv, kOfflineStatsColumns);
+    if (!csv.good()) return make_error(ErrorCode::io_error, "{}: cannot write", o.stats_csv);
+    FramePipeline pipeline(std::move(scene), PipelineOptions{o.clip, o.rebuild_factor});
     ReplicaState replica;
     std::vector<OfflineFrameStats> stats;
     for (int f = 0; f < o.frames; ++f) {
         OfflineFrameStats s;
         s.frame = uint64_t(f);
-        Timer timer;
-        graph.advance(double(f) / o.fps);  // the fixed game clock (DESIGN.md, "Time")
-        s.animate_ms = timer.milliseconds();
-        s.dynamic_tris = graph.dynamic_triangles();
-        const ChangeSet changes = graph.take_changes();
-        timer.reset();
-        const auto previous = accel.current();
-        const auto snapshot = f == 0 ? accel.build(graph.state(), s.frame)
-                                     : accel.update(graph.state(), changes, s.frame);
-        queries.publish(snapshot);
-        s.accel_ms = timer.milliseconds();
-        timer.reset();
-        Commit commit = f == 0 ? make_snapshot(graph.state(), s.frame)
-                               : build_commit(graph.state(), changes, s.frame, s.frame - 1);
-        if (o.bvh_nodes)
-            for (CommitOp& op : build_bvh_ops(f == 0 ? nullptr : previous.get(), *snapshot))
-                commit.ops.push_back(std::move(op));
+        // The fixed game clock (DESIGN.md, "Time"); no game and no inputs offline.
+        const FrameUpdate update = pipeline.advance(s.frame, double(f) / o.fps, {});
+        s.animate_ms = update.animate_ms;
+        s.accel_ms = update.accel_ms;
+        s.dynamic_tris = pipeline.graph().dynamic_triangles();
+        const Timer timer;
+        const Commit commit =
+            f == 0 ? pipeline.snapshot(s.frame, o.bvh_nodes) : pipeline.commit(update, o.bvh_nodes);
         s.commit_ms = timer.milliseconds();
-        s.replica_ok = replicate(replica, commit, graph.state(),
-                                 o.bvh_nodes ? snapshot.get() : nullptr, s.commit_bytes);
-        csv.row(s);
+        s.replica_ok = replicate(replica, commit, pipeline.state(),
+                                 o.bvh_nodes ? update.accel.get() : nullptr, s.commit_bytes);
+        csv.row(s.frame, s.commit_bytes, s.animate_ms, s.accel_ms, s.commit_ms, s.dynamic_tris,
+                s.replica_ok ? 1 : 0);
         stats.push_back(s);
         if (!s.replica_ok)
             return make_error(ErrorCode::backend_error,

@@ -25,12 +25,13 @@ struct FarmOptions {
     int deadline_ms = 10000;
     std::optional<int> clip;
     std::string secret;
-    std::string stats_csv;         // frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp
-    std::string tracer_stats_csv;  // frame,tracer,first_row,rows,render_ms
-    std::string dump_frames;       // folder for frame_NNNNNN.pfm (linear float)
+    // CSV outputs; their columns are listed in coordinator/frame/farm_stats.h.
+    std::string stats_csv;                     // one row per frame
+    std::string tracer_stats_csv;              // one row per tracer and frame
+    std::string dump_frames;                   // folder for frame_NNNNNN.pfm (linear float)
     std::string balancer = "cost-predictive";  // coordinator/balance/balancer.h
-    std::string record_costs;  // frame,unit,cost_us per work unit (record with one tracer)
-    std::string stages_csv;    // frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms
+    std::string record_costs;  // the time of every work unit (record with one tracer)
+    std::string stages_csv;    // the frame loop's stages per frame
     // The real-time loop (docs/realtime.md). fixed_spp: no pacing and no workload scaling, every
     // frame at `spp` and full resolution as fast as the farm goes (the determinism tests).
     bool converge = true;

@@ -178,8 +178,8 @@ TEST(OpenClBackend, MovingOneInstanceUploadsOnlyThatInstance) {
     ASSERT_TRUE(backend.set_scene(scene).ok());
     const auto& up = backend.last_upload().bytes;
     EXPECT_EQ(up.at("instances"), sizeof(PfInstance));
-    for (const char* untouched : {"positions", "normals", "uvs", "tangents", "indices", "bvh_nodes",
-                                  "bvh_prims", "materials", "texels", "lights"})
+    for (const char* untouched : {"positions", "normals", "uvs", "tangents", "indices", "nodes",
+                                  "prims", "materials", "texels", "lights"})
         EXPECT_EQ(up.at(untouched), 0u) << untouched;
     // The top level is rebuilt over the instance boxes: only nodes that changed go up.
     EXPECT_LE(up.at("top_nodes"), scene.instances.size() * 2 * sizeof(PfBvhNode));

@@ -1,6 +1,5 @@
-// Discrete simulation of one frame at a time: each tracer works through its units in order;
-// with re-issue, a tracer that runs out takes the last not-yet-started unit of the tracer with
-// the most work left.
+// The balancing simulation: frame after frame, the balancer splits the rows, FrameSim plays the
+// frame out, and the balancer hears what the farm would tell it.
 #include "tools/balance-sim/balance_sim.h"
 
 #include <algorithm>
@@ -8,7 +7,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/base/work_unit.h"
 #include "common/sampling/rng.h"
+#include "tools/balance-sim/frame_sim.h"
 
 namespace pathfarm::sim {
 namespace {
@@ -18,17 +19,6 @@ double gaussian(Pcg32& rng) {  // Box-Muller
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
 }
 
-struct Worker {
-    double speed = 1.0;      // effective this frame
-    std::vector<int> queue;  // unit indices, front first
-    std::size_t next = 0;    // first unit not yet started
-    double clock = 0.0, busy = 0.0;
-    double own_ms = 0.0;     // time spent on its own assignment (what it reports)
-    double done_cost = 0.0;  // cost of every unit it rendered, its own and taken ones
-    double work_ms = 0.0;    // time spent rendering them, without messages
-    bool done = false;       // idle and nothing left to take
-};
-
 }  // namespace
 
 std::vector<FrameResult> simulate(coord::Balancer& balancer, const SimOptions& o,
@@ -36,95 +26,26 @@ std::vector<FrameResult> simulate(coord::Balancer& balancer, const SimOptions& o
     std::vector<FrameResult> results;
     if (trace.empty()) return results;
     Pcg32 rng(o.seed);
-    const int units = int(trace[0].size());
-    const int height = units * coord::kRowsPerWorkUnit;
+    const int height = int(trace[0].size()) * kRowsPerWorkUnit;
     std::vector<coord::TracerFrame> last(o.speeds.size());
     std::vector<double> last_costs;
     for (int f = 0; f < o.frames; ++f) {
         const std::vector<double>& cost = trace[std::size_t(f) % trace.size()];
         const auto ranges = balancer.assign(coord::BalanceInput{height, last, last_costs});
-        std::vector<Worker> w(o.speeds.size());
+        std::vector<double> speeds;
         double total_cost = 0.0, total_speed = 0.0;
         for (double c : cost)
             total_cost += c;
-        for (std::size_t i = 0; i < w.size(); ++i) {
+        for (double s : o.speeds) {
             const double hiccup = rng.next_float() < o.hiccup_p ? 0.5 : 1.0;
-            w[i].speed = o.speeds[i] * std::exp(o.noise_sigma * gaussian(rng)) * hiccup;
-            total_speed += w[i].speed;
-            for (int u = ranges[i].y0 / coord::kRowsPerWorkUnit;
-                 u * coord::kRowsPerWorkUnit < ranges[i].y1; ++u)
-                w[i].queue.push_back(u);
-            w[i].clock = w[i].busy = o.latency_ms;  // the assignment message
+            speeds.push_back(s * std::exp(o.noise_sigma * gaussian(rng)) * hiccup);
+            total_speed += speeds.back();
         }
-        // Process units in time order: always advance the worker that is free earliest.
-        for (;;) {
-            std::size_t i = 0;
-            bool any = false;
-            for (std::size_t k = 0; k < w.size(); ++k) {
-                const bool has = w[k].next < w[k].queue.size();
-                const bool can_steal = o.reissue && !w[k].done;
-                if ((has || can_steal) && (!any || w[k].clock < w[i].clock)) {
-                    i = k;
-                    any = true;
-                }
-            }
-            if (!any) break;
-            Worker& me = w[i];
-            int unit = -1;
-            bool stolen = false;
-            if (me.next < me.queue.size()) {
-                unit = me.queue[me.next++];
-            } else {  // re-issue: the last not-yet-started unit of the tracer that will finish
-                      // last, if this tracer would finish that unit sooner than its owner would
-                std::size_t victim = i;
-                double latest = me.clock;
-                for (std::size_t k = 0; k < w.size(); ++k) {
-                    if (k == i || w[k].next >= w[k].queue.size()) continue;
-                    double end = w[k].clock;  // when tracer k would finish all it still holds
-                    for (std::size_t q = w[k].next; q < w[k].queue.size(); ++q)
-                        end += cost[std::size_t(w[k].queue[q])] / w[k].speed;
-                    if (end > latest) {
-                        latest = end;
-                        victim = k;
-                    }
-                }
-                const bool worth =
-                    victim != i &&
-                    me.clock + o.latency_ms + cost[std::size_t(w[victim].queue.back())] / me.speed <
-                        latest;
-                if (!worth) {  // nothing left that this tracer could finish sooner: it is done
-                    me.done = true;
-                    continue;
-                }
-                unit = w[victim].queue.back();
-                w[victim].queue.pop_back();
-                stolen = true;
-            }
-            const double t = cost[std::size_t(unit)] / me.speed + (stolen ? o.latency_ms : 0.0);
-            me.clock += t;
-            me.busy += t;
-            me.done_cost += cost[std::size_t(unit)];
-            me.work_ms += cost[std::size_t(unit)] / me.speed;
-            if (!stolen) me.own_ms += t;
-        }
-        // Tile messages: one per units_per_tile units of each tracer.
-        double t_max = 0.0;
-        for (Worker& x : w) {
-            const double tiles = std::ceil(double(x.queue.size()) / o.units_per_tile);
-            x.clock += tiles * o.latency_ms;
-            x.busy += tiles * o.latency_ms;
-            t_max = std::max(t_max, x.clock);
-        }
-        double idle = 0.0;
-        for (const Worker& x : w)
-            idle += t_max - x.busy;
-        results.push_back({t_max, total_cost / total_speed,
-                           t_max > 0.0 ? 100.0 * idle / (double(w.size()) * t_max) : 0.0});
-        for (std::size_t i = 0; i < w.size(); ++i)
-            last[i] =
-                coord::TracerFrame{ranges[i], ranges[i].empty() ? 0.0 : w[i].own_ms + o.latency_ms,
-                                   w[i].work_ms > 0.0 ? w[i].done_cost / w[i].work_ms : 0.0};
-        last_costs = cost;  // a speed-independent cost per unit, as the farm's rays are
+        FrameSim frame(cost, speeds, o.latency_ms, o.units_per_tile, balancer.steals_mid_frame());
+        frame.run(ranges);
+        results.push_back({frame.frame_ms(), total_cost / total_speed, frame.strict_idle_pct(),
+                           frame.farm_idle_pct()});
+        last = frame.feedback(ranges, last_costs);
     }
     return results;
 }

@@ -21,14 +21,18 @@ struct SimOptions {
     double latency_ms = 0.5;    // per message (assignment, tile, re-issue)
     int frames = 128;
     uint64_t seed = 1;
-    bool reissue = false;  // idle tracers take not-yet-started units from the slowest
-    int units_per_tile = 4;
+    int units_per_tile = 4;  // a tracer sends a tile every this many units
+    // Mid-frame stealing follows the balancer (Balancer::steals_mid_frame), as in the farm.
 };
 
 struct FrameResult {
     double frame_ms = 0.0;
     double ideal_ms = 0.0;  // total work / total speed
-    double idle_pct = 0.0;  // 100 * sum(t_max - t_i) / (n * t_max); duplicated work counts as idle
+    // 100 * sum(frame - useful_i) / (n * frame): re-rendered rows and waiting count as idle.
+    double idle_pct = 0.0;
+    // As the farm's stats report it: 100 * sum(max - busy_i) / (n * max) over the tracers'
+    // summed tile times (coordinator/balance/unit_costs.h idle_percent).
+    double farm_idle_pct = 0.0;
 };
 
 std::vector<FrameResult> simulate(coord::Balancer& balancer, const SimOptions& options,

@@ -30,7 +30,6 @@ Result<Cell> run_cell(const ReportOptions& o, int tracers, const CostTrace& trac
     if (int(sim.speeds.size()) != tracers)
         return make_error(ErrorCode::invalid_argument, "--speeds{}: {} speeds for {} tracers",
                           tracers, sim.speeds.size(), tracers);
-    sim.reissue = scheme == "ours";
     auto balancer = coord::make_balancer(scheme == "ours" ? "cost-predictive" : scheme);
     if (!balancer)
         return make_error(ErrorCode::invalid_argument, "--schemes: unknown scheme \"{}\"", scheme);

@@ -34,6 +34,26 @@ struct MeshBvhView {
     const std::vector<uint32_t>* prim_indices = nullptr;
 };
 
+// What changed in the scene since the backend last saw it (DESIGN.md, "The frame" step 5), as
+// indices into the SceneModel that comes with it, so a backend can update only that. The first
+// scene, and any change that adds or removes objects (indices may have moved), has `structure`.
+struct SceneChanges {
+    bool structure = false;
+    std::vector<uint32_t> instances;      // transforms; a camera move shifts them all (rendering
+                                          // is camera-relative)
+    std::vector<uint32_t> mesh_vertices;  // deformed meshes (positions, normals, tangents)
+    std::vector<uint32_t> materials;      // any parameter, emission included
+    std::vector<uint32_t> textures;       // a texture or its image
+    bool lights = false;                  // what emits light changed: an emissive material, an
+                                          // emitter that moved or deformed, the sun/sky
+    bool camera = false;
+    bool settings = false;
+    bool environment = false;
+
+    static SceneChanges everything();
+    bool empty() const;
+};
+
 class RenderBackend {
 public:
     virtual ~RenderBackend() = default;
@@ -45,6 +65,12 @@ public:
     virtual void provide_mesh_bvhs(std::vector<MeshBvhView> /*bvhs*/) {}
     // Makes `scene` the scene to render. The model must outlive the backend's use of it.
     virtual Status set_scene(const SceneModel& scene) = 0;
+    // Makes `scene` the scene to render after `changes` (what changed since the last call).
+    // The default rebuilds everything; a backend may update only what `changes` names.
+    virtual Status update_scene(const SceneModel& scene, const SceneChanges& changes) {
+        (void)changes;
+        return set_scene(scene);
+    }
     // Renders rows [job.y0, job.y1) into out: (y1 - y0) rows of width * 3 floats, top row first.
     virtual Result<RenderStats> render_rows(const RenderJob& job, float* out) = 0;
 };

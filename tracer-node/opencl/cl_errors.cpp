@@ -5,6 +5,7 @@
 
 namespace pathfarm::tracer {
 
+// check_sizes: lookup table
 const char* cl_error_name(int code) {
     switch (code) {
         case 0:

@@ -15,6 +15,27 @@ namespace pathfarm::tracer {
 namespace {
 
 static_assert(sizeof(PfBvhNode) == sizeof(BvhNode), "PfBvhNode mirrors BvhNode");
+// The kernels' copies of the C++ enums (device_types.h).
+static_assert(PF_STRATEGY_MIS == int(LightStrategy::mis) &&
+                  PF_STRATEGY_LIGHT_ONLY == int(LightStrategy::light_only) &&
+                  PF_STRATEGY_BSDF_ONLY == int(LightStrategy::bsdf_only),
+              "LightStrategy");
+static_assert(PF_FEATURE_EMITTERS == kFeatureEmitters &&
+                  PF_FEATURE_ENVIRONMENT == kFeatureEnvironment &&
+                  PF_FEATURE_TRANSMISSION == kFeatureTransmission,
+              "SceneFeature");
+static_assert(PF_ALPHA_OPAQUE == unsigned(AlphaMode::opaque) &&
+                  PF_ALPHA_MASK == unsigned(AlphaMode::mask) &&
+                  PF_ALPHA_BLEND == unsigned(AlphaMode::blend) && kAlphaModeCount == 3,
+              "AlphaMode");
+static_assert(PF_FILTER_NEAREST == unsigned(FilterMode::nearest) &&
+                  PF_FILTER_LINEAR == unsigned(FilterMode::linear) && kFilterModeCount == 2,
+              "FilterMode");
+static_assert(PF_WRAP_REPEAT == unsigned(WrapMode::repeat) &&
+                  PF_WRAP_CLAMP_TO_EDGE == unsigned(WrapMode::clamp_to_edge) &&
+                  PF_WRAP_MIRRORED_REPEAT == unsigned(WrapMode::mirrored_repeat) &&
+                  kWrapModeCount == 3,
+              "WrapMode");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
                   sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 6 * 4 &&
                   sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == (35 + 256 + 1024) * 4 &&

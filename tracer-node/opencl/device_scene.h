@@ -14,22 +14,11 @@
 
 namespace pathfarm::tracer {
 
+// The device arrays on the host, one vector per entry of PF_SCENE_ARRAYS (device_types.h).
 struct PackedScene {
-    std::vector<float> positions;  // 3 per vertex, all meshes back to back
-    std::vector<float> normals;    // parallel to positions; zeros where a mesh has none
-    std::vector<float> uvs;        // 2 per vertex
-    std::vector<float> tangents;   // 4 per vertex
-    std::vector<uint32_t> indices;
-    std::vector<PfMesh> meshes;
-    std::vector<PfInstance> instances;
-    std::vector<PfBvhNode> nodes;  // every mesh's BVH, back to back
-    std::vector<uint32_t> prims;
-    std::vector<PfBvhNode> top_nodes;  // over the instances
-    std::vector<uint32_t> top_prims;
-    std::vector<PfMaterial> materials;
-    std::vector<PfTexture> textures;
-    std::vector<uint8_t> texels;  // RGBA8, all images back to back
-    std::vector<PfLight> lights;
+#define PF_PACKED_ARRAY(name, type) std::vector<type> name;
+    PF_SCENE_ARRAYS(PF_PACKED_ARRAY)
+#undef PF_PACKED_ARRAY
     PfSceneGlobals globals{};
     uint32_t features = 0;                // SceneFeature bits the scene needs (scene_features)
     std::size_t meshes_with_own_bvh = 0;  // meshes whose BVH the tracer built (none provided)

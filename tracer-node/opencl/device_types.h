@@ -8,10 +8,12 @@
 #ifdef __OPENCL_C_VERSION__
 typedef uint pf_uint;
 typedef int pf_int;
+typedef uchar pf_uchar;
 #else
 #include <cstdint>
 typedef uint32_t pf_uint;
 typedef int32_t pf_int;
+typedef uint8_t pf_uchar;
 #endif
 
 #define PF_MESH_NORMALS 1u
@@ -28,6 +30,17 @@ typedef int32_t pf_int;
 #define PF_FEATURE_EMITTERS 1u
 #define PF_FEATURE_ENVIRONMENT 2u
 #define PF_FEATURE_TRANSMISSION 4u
+
+// AlphaMode (common/scene/material.h), FilterMode and WrapMode (common/scene/texture.h).
+#define PF_ALPHA_OPAQUE 0u
+#define PF_ALPHA_MASK 1u
+#define PF_ALPHA_BLEND 2u
+#define PF_FILTER_NEAREST 0u
+#define PF_FILTER_LINEAR 1u
+#define PF_WRAP_REPEAT 0u
+#define PF_WRAP_CLAMP_TO_EDGE 1u
+#define PF_WRAP_MIRRORED_REPEAT 2u
+// (device_scene.cpp static_asserts each mirrored value against its C++ enum.)
 
 // Same layout as pathfarm::BvhNode (common/scene/bvh_node.h).
 typedef struct {
@@ -156,5 +169,27 @@ typedef struct {
     float rr_scale;
     pf_uint pad[3];
 } PfFrameParams;
+
+// The scene's device arrays in kernel argument order (after PfFrameParams, before the
+// PfSceneGlobals): name and element type. One list that both compilers expand: the kernel's
+// parameters and PfScene (kernels/*.cl), the host's PackedScene, its device arrays, their
+// uploads and the kernel arguments (device_scene.h, opencl_backend.cpp). An X-macro because C
+// and OpenCL C share no other way to write a table of fields once.
+#define PF_SCENE_ARRAYS(X)                                              \
+    X(positions, float) /* 3 per vertex, all meshes back to back */     \
+    X(normals, float)   /* 3 per vertex; zeros where a mesh has none */ \
+    X(uvs, float)       /* 2 per vertex */                              \
+    X(tangents, float)  /* 4 per vertex */                              \
+    X(indices, pf_uint) /* 3 per triangle, mesh-local */                \
+    X(meshes, PfMesh)                                                   \
+    X(instances, PfInstance)                                            \
+    X(nodes, PfBvhNode) /* every mesh's BVH, back to back */            \
+    X(prims, pf_uint)                                                   \
+    X(top_nodes, PfBvhNode) /* over the instances */                    \
+    X(top_prims, pf_uint)                                               \
+    X(materials, PfMaterial)                                            \
+    X(textures, PfTexture)                                              \
+    X(texels, pf_uchar) /* RGBA8, all images back to back */            \
+    X(lights, PfLight)
 
 #endif  // PATHFARM_OPENCL_DEVICE_TYPES_H

@@ -209,9 +209,11 @@ struct OpenClBackend::Impl {
     const SceneModel* scene = nullptr;
     LightCulling culling;
     PackedScene light_state;  // instances, lights and globals as last uploaded
-    // Scene buffers, in kernel argument order after the frame parameters.
-    DeviceArray positions, normals, uvs, tangents, indices, meshes, instances, nodes, prims,
-        top_nodes, top_prims, materials, textures, texels, lights, globals;
+    // Scene buffers (device_types.h PF_SCENE_ARRAYS), then the globals.
+#define PF_DEVICE_ARRAY(name, type) DeviceArray name;
+    PF_SCENE_ARRAYS(PF_DEVICE_ARRAY)
+#undef PF_DEVICE_ARRAY
+    DeviceArray globals;
     std::map<uint32_t, cl::Kernel> kernels;  // by variant
     cl::Buffer out, counters;
     std::size_t out_capacity = 0;
@@ -257,23 +259,10 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     d.provided_bvhs.clear();  // views are valid for this call only
     d.upload = {};
     const std::vector<PfSceneGlobals> globals{p.globals};
-    for (Status s :
-         {d.upload_array("positions", d.positions, p.positions),
-          d.upload_array("normals", d.normals, p.normals), d.upload_array("uvs", d.uvs, p.uvs),
-          d.upload_array("tangents", d.tangents, p.tangents),
-          d.upload_array("indices", d.indices, p.indices),
-          d.upload_array("meshes", d.meshes, p.meshes),
-          d.upload_array("instances", d.instances, p.instances),
-          d.upload_array("bvh_nodes", d.nodes, p.nodes),
-          d.upload_array("bvh_prims", d.prims, p.prims),
-          d.upload_array("top_nodes", d.top_nodes, p.top_nodes),
-          d.upload_array("top_prims", d.top_prims, p.top_prims),
-          d.upload_array("materials", d.materials, p.materials),
-          d.upload_array("textures", d.textures, p.textures),
-          d.upload_array("texels", d.texels, p.texels),
-          d.upload_array("lights", d.lights, p.lights),
-          d.upload_array("globals", d.globals, globals)})
+#define PF_UPLOAD(name, type) d.upload_array(#name, d.name, p.name),
+    for (Status s : {PF_SCENE_ARRAYS(PF_UPLOAD) d.upload_array("globals", d.globals, globals)})
         if (!s) return s;
+#undef PF_UPLOAD
     if (const cl_int err = d.queue.finish(); err != CL_SUCCESS)
         return cl_failure("uploading the scene", err);
     d.features = p.features;
@@ -343,11 +332,10 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
     cl::Kernel& k = *kernel;
     cl_uint arg = 0;
     err = k.setArg(arg++, sizeof fp, &fp);
-    for (const DeviceArray* a :
-         {&d.positions, &d.normals, &d.uvs, &d.tangents, &d.indices, &d.meshes, &d.instances,
-          &d.nodes, &d.prims, &d.top_nodes, &d.top_prims, &d.materials, &d.textures, &d.texels,
-          &d.lights, &d.globals})
+#define PF_ARRAY_ARG(name, type) &d.name,
+    for (const DeviceArray* a : {PF_SCENE_ARRAYS(PF_ARRAY_ARG) & d.globals})
         if (err == CL_SUCCESS) err = k.setArg(arg++, a->buffer());
+#undef PF_ARRAY_ARG
     if (err == CL_SUCCESS) err = k.setArg(arg++, d.out);
     if (err == CL_SUCCESS) err = k.setArg(arg++, d.counters);
     if (err != CL_SUCCESS) return cl_failure("setting kernel arguments", err);

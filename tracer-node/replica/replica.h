@@ -1,35 +1,61 @@
-// The tracer's replica of the scene (DESIGN.md, "Replica equality"): applies commits received
-// as wire messages and hands the backend a SceneModel when the scene changed.
+// The tracer's replica of the scene (DESIGN.md, "Replica equality"): applies commits as they
+// arrive, remembers what they changed, and hands the backend the scene with that change set
+// (DESIGN.md, "The frame" step 5), so a backend can update instead of rebuild.
 #pragma once
 
 #include <map>
-#include <string>
+#include <memory>
+#include <set>
 #include <vector>
 
 #include "common/base/result.h"
 #include "common/commit/commit.h"
+#include "common/commit/commit_codec.h"
+#include "tracer-node/backend/render_backend.h"
 
 namespace pathfarm::tracer {
+
+// The scene as the backend renders it and what changed since the last one handed out.
+struct ReplicaScene {
+    SceneModel scene;
+    SceneChanges changes;
+};
 
 class Replica {
 public:
     // Bulk chunks arrive before the Commit message of the same frame.
-    void add_chunk(uint64_t frame, std::string chunk_bytes);
-    // Decodes and applies a commit with its buffered chunks. On error the replica is unchanged
-    // and the caller should resynchronise (reconnect for a snapshot).
-    Status apply(const std::string& commit_bytes, uint64_t frame);
+    void add_chunk(uint64_t frame, std::shared_ptr<const ParsedChunk> chunk);
+    // Decodes a commit with its buffered chunks and applies it. On error the replica is
+    // unchanged and the caller should resynchronise (reconnect for a snapshot).
+    Status apply(const ParsedCommit& commit, uint64_t frame);
+    // Applies an already decoded commit (the parsing done elsewhere, as in tests).
+    Status apply(const Commit& commit);
 
     uint64_t commit() const { return state_.commit; }
     bool initialised() const { return state_.initialised; }
     const ReplicaState& state() const { return state_; }
-    // True when commits changed the scene since the last take_scene_model().
-    bool scene_changed() const { return changed_; }
-    SceneModel take_scene_model();
+    // True when commits changed the scene since the last take_scene().
+    bool scene_changed() const { return !pending_.empty(); }
+    // The dense scene with the changes (as its indices) since the last call; everything the
+    // first time.
+    ReplicaScene take_scene();
 
 private:
+    // What changed, by object id, until take_scene turns ids into indices.
+    struct PendingChanges {
+        bool structure = false, camera = false, settings = false, environment = false;
+        bool lights = false;
+        std::set<uint32_t> instances, meshes, materials, textures, images;
+        bool empty() const;
+        static PendingChanges everything() {
+            return {true, true, true, true, true, {}, {}, {}, {}, {}};
+        }
+    };
+    void note(const CommitOp& op);
+
     ReplicaState state_;
-    std::map<uint64_t, std::vector<std::string>> chunks_;  // by frame
-    bool changed_ = true;
+    std::map<uint64_t, std::vector<std::shared_ptr<const ParsedChunk>>> chunks_;  // by frame
+    PendingChanges pending_ = PendingChanges::everything();  // the first scene is all new
 };
 
 }  // namespace pathfarm::tracer

@@ -7,22 +7,10 @@
 #define PF_INV_PI 0.31830988618379067154f
 #define PF_STACK_SIZE 64
 
+// The scene's arrays (device_types.h PF_SCENE_ARRAYS) and globals, as the kernel received them.
+#define PF_SCENE_FIELD(name, type) __global const type* name;
 typedef struct {
-    __global const float* positions;  // 3 floats per vertex
-    __global const float* normals;    // 3 floats per vertex (meshes without: zeros)
-    __global const float* uvs;        // 2 floats per vertex
-    __global const float* tangents;   // 4 floats per vertex
-    __global const uint* indices;
-    __global const PfMesh* meshes;
-    __global const PfInstance* instances;
-    __global const PfBvhNode* nodes;  // every mesh's BVH
-    __global const uint* prims;
-    __global const PfBvhNode* top_nodes;  // over instances
-    __global const uint* top_prims;
-    __global const PfMaterial* materials;
-    __global const PfTexture* textures;
-    __global const uchar* texels;  // RGBA8
-    __global const PfLight* lights;
+    PF_SCENE_ARRAYS(PF_SCENE_FIELD)
     __global const PfSceneGlobals* globals;
 } PfScene;
 

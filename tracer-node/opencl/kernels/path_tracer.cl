@@ -172,23 +172,16 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
 
 // One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples. out holds
 // (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel.
-__kernel void pf_render_rows(PfFrameParams fp, __global const float* positions,
-                             __global const float* normals, __global const float* uvs,
-                             __global const float* tangents, __global const uint* indices,
-                             __global const PfMesh* meshes, __global const PfInstance* instances,
-                             __global const PfBvhNode* nodes, __global const uint* prims,
-                             __global const PfBvhNode* top_nodes, __global const uint* top_prims,
-                             __global const PfMaterial* materials,
-                             __global const PfTexture* textures, __global const uchar* texels,
-                             __global const PfLight* lights,
-                             __global const PfSceneGlobals* globals, __global float* out,
-                             __global uint* counters) {
+#define PF_KERNEL_PARAM(name, type) __global const type* name,
+#define PF_SCENE_INIT(name, type) name,
+__kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
+                                 __global const PfSceneGlobals* globals,
+                             __global float* out, __global uint* counters) {
     const int x = (int)get_global_id(0);
     const int row = (int)get_global_id(1);
     if (x >= fp.width || row >= fp.y1 - fp.y0) return;
     const int y = fp.y0 + row;
-    PfScene s = {positions, normals, uvs, tangents, indices, meshes, instances, nodes, prims,
-                 top_nodes, top_prims, materials, textures, texels, lights, globals};
+    PfScene s = {PF_SCENE_ARRAYS(PF_SCENE_INIT) globals};
     const float* c2w = fp.camera_to_world;
     const float3 eye = (float3)(c2w[3], c2w[7], c2w[11]);
     const float aspect = (float)fp.width / (float)fp.height;

@@ -60,8 +60,8 @@ float3 pf_normalize_or(float3 v, float3 fallback) {
 }
 
 int pf_wrap_index(int i, int n, uint mode) {
-    if (mode == 1u) return clamp(i, 0, n - 1);
-    if (mode == 2u) {
+    if (mode == PF_WRAP_CLAMP_TO_EDGE) return clamp(i, 0, n - 1);
+    if (mode == PF_WRAP_MIRRORED_REPEAT) {
         const int period = 2 * n;
         int m = i % period;
         if (m < 0) m += period;
@@ -87,7 +87,7 @@ float4 pf_sample_texture(const PfScene* s, int texture, float2 uv, bool srgb) {
     if (w <= 0 || h <= 0 || !isfinite(uv.x) || !isfinite(uv.y)) return (float4)(1.0f);
     const float fx = clamp(uv.x * (float)w, -1e7f, 1e7f);
     const float fy = clamp(uv.y * (float)h, -1e7f, 1e7f);
-    if (tex->filter == 0u) {
+    if (tex->filter == PF_FILTER_NEAREST) {
         const int x = pf_wrap_index((int)floor(fx), w, tex->wrap_s);
         const int y = pf_wrap_index((int)floor(fy), h, tex->wrap_t);
         return pf_texel(s, tex, x, y, srgb);
@@ -160,8 +160,8 @@ float pf_base_color_alpha(const PfScene* s, __global const PfMaterial* m, float2
 }
 
 float pf_alpha_coverage(__global const PfMaterial* m, float alpha) {
-    if (m->alpha_mode == 1u) return alpha >= m->alpha_cutoff ? 1.0f : 0.0f;
-    if (m->alpha_mode == 2u) return clamp(alpha, 0.0f, 1.0f);
+    if (m->alpha_mode == PF_ALPHA_MASK) return alpha >= m->alpha_cutoff ? 1.0f : 0.0f;
+    if (m->alpha_mode == PF_ALPHA_BLEND) return clamp(alpha, 0.0f, 1.0f);
     return 1.0f;
 }
 
@@ -169,9 +169,9 @@ float pf_alpha_coverage(__global const PfMaterial* m, float alpha) {
 float pf_alpha_hash(float3 o, float3 d, float t, uint prim) {
     const uint w[8] = {as_uint(o.x), as_uint(o.y), as_uint(o.z), as_uint(d.x),
                        as_uint(d.y), as_uint(d.z), as_uint(t),   prim};
-    uint h = 0x9e3779b9U;
+    uint h = PF_HASH_WORDS_START;
     for (int k = 0; k < 8; ++k)
-        h = pf_hash_u32(h ^ pf_hash_u32(w[k] + 0x632be5abU));
+        h = pf_hash_fold(h, w[k]);
     return (float)(h >> 8) * 0x1p-24f;
 }
 
@@ -186,8 +186,8 @@ bool pf_alpha_keeps_hit(const PfScene* s, __global const PfMesh* mesh, uint prim
              v * vload2(base + idx[2], s->uvs);
     }
     const float alpha = pf_base_color_alpha(s, m, uv);
-    if (m->alpha_mode == 1u) return alpha >= m->alpha_cutoff;
-    if (m->alpha_mode == 2u) return pf_alpha_hash(o, d, t, prim) < alpha;
+    if (m->alpha_mode == PF_ALPHA_MASK) return alpha >= m->alpha_cutoff;
+    if (m->alpha_mode == PF_ALPHA_BLEND) return pf_alpha_hash(o, d, t, prim) < alpha;
     return true;
 }
 

@@ -1,9 +1,12 @@
 // The commit codec: round trips, bounded chunks, and malformed input rejected with an error.
 #include "common/commit/commit_codec.h"
 
+#include <functional>
+
 #include <gtest/gtest.h>
 
 #include "common/scene/load/builtin_scenes.h"
+#include "pathfarm/wire/v1/commit.pb.h"
 
 namespace pathfarm {
 namespace {
@@ -48,6 +51,39 @@ TEST(CommitCodec, AlphaModesAndTextureTransformsRoundTrip) {
     EXPECT_EQ(back.emissive_texture.transform.rotation, 1.25f);
     EXPECT_EQ(back.emissive_texture.transform.scale, Vec2(2.0f, 0.5f));
     EXPECT_EQ(b.scene.materials.at(1).alpha_mode, AlphaMode::blend);
+}
+
+// A decode error names the commit, the op's index and kind, and the field.
+TEST(CommitCodec, DecodeErrorsNameTheOpAndTheField) {
+    namespace pb = ::pathfarm::wire::v1;
+    const auto decode_one = [](const std::function<void(pb::CommitOp&)>& fill) {
+        pb::Commit w;
+        w.set_frame(12);
+        w.add_ops()->mutable_remove_mesh()->set_id(1);  // op 0 is fine
+        fill(*w.add_ops());
+        auto r = decode_commit(w.SerializeAsString(), {});
+        return r.ok() ? std::string("decoded") : r.error().message;
+    };
+    EXPECT_EQ(decode_one([](pb::CommitOp& op) {
+                  op.mutable_set_mesh_bvh()->mutable_inline_data()->set_nodes(std::string(31, 'x'));
+              }),
+              "commit 12: op 1 SetMeshBvh: nodes: 31 bytes, not a multiple of 32");
+    EXPECT_EQ(decode_one([](pb::CommitOp& op) {
+                  op.mutable_set_texture()->mutable_texture()->set_wrap_t(5);
+              }),
+              "commit 12: op 1 SetTexture: wrap_t: 5 is not one of the 3 values");
+    EXPECT_EQ(decode_one([](pb::CommitOp& op) {
+                  op.mutable_set_instance()->mutable_instance()->set_transform("short");
+              }),
+              "commit 12: op 1 SetInstance: transform: 5 bytes, not 64");
+    EXPECT_EQ(decode_one([](pb::CommitOp& op) {
+                  op.mutable_set_material()->mutable_material()->add_base_color_factor(1.0f);
+              }),
+              "commit 12: op 1 SetMaterial: base_color_factor: 1 values, not 4");
+    EXPECT_EQ(decode_one([](pb::CommitOp& op) { op.mutable_add_mesh()->set_blob(3); }),
+              "commit 12: op 1 AddMesh: blob 3 is not in the commit");
+    EXPECT_EQ(decode_one([](pb::CommitOp&) {}),
+              "commit 12: op 1 (unset): no op, or one this build does not know");
 }
 
 TEST(CommitCodec, BulkPayloadsTravelInBoundedChunks) {

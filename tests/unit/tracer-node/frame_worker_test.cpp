@@ -1,0 +1,162 @@
+// The tracer's frame worker without sockets: commits through the real wire codecs into the
+// replica, and each kind of scene change reaches the backend as that kind of change (DESIGN.md,
+// "The frame" step 5), with everything on the first scene and after structural edits.
+#include "tracer-node/frame_worker.h"
+
+#include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "common/commit/commit_codec.h"
+#include "common/scene/load/builtin_scenes.h"
+#include "common/wire/messages.h"
+
+namespace pathfarm::tracer {
+namespace {
+
+// Records what update_scene received; renders black rows.
+class RecordingBackend final : public RenderBackend {
+public:
+    std::string name() const override { return "recording"; }
+    Status set_scene(const SceneModel&) override { return {}; }
+    Status update_scene(const SceneModel& scene, const SceneChanges& changes) override {
+        updates.push_back(changes);
+        instances = scene.instances.size();
+        return {};
+    }
+    Result<RenderStats> render_rows(const RenderJob& job, float* out) override {
+        std::fill(out, out + std::size_t(job.y1 - job.y0) * job.frame.width * 3, 0.0f);
+        return RenderStats{};
+    }
+    std::vector<SceneChanges> updates;
+    std::size_t instances = 0;
+};
+
+class FrameWorkerTest : public ::testing::Test {
+protected:
+    FrameWorkerTest()
+        : worker_(
+              options_, backend_, [this](std::string e) { tiles_.push_back(std::move(e)); },
+              RenderControl{[] { return uint64_t(0); },
+                            [](const wire::Assignment&, uint32_t) { return false; }}),
+          state_(scene_state_from_model(make_default_scene())) {
+        send(make_snapshot(state_, 0));
+        render(0);
+    }
+    // Sends a commit as its envelopes, decoded as the tracer's inbox decodes them.
+    void send(const Commit& c) {
+        for (const std::string& e : wire::encode_commit_envelopes(encode_commit(c))) {
+            auto m = wire::decode_for_tracer(e);
+            ASSERT_TRUE(m.ok()) << m.error().message;
+            ASSERT_TRUE(worker_.handle(*m).ok());
+        }
+    }
+    void render(uint64_t frame) {
+        const wire::Assignment a{frame, frame, 0, 4, 16, 8, 1, 0, 2, 1.0f};
+        ASSERT_TRUE(worker_.handle(wire::TracerInbound{a}).ok());
+    }
+    // Applies one op as commit `frame` and returns what the backend was told at the next render.
+    SceneChanges change(uint64_t frame, CommitOp op) {
+        send(Commit{frame, frame - 1, false, {std::move(op)}});
+        const std::size_t before = backend_.updates.size();
+        render(frame);
+        EXPECT_EQ(backend_.updates.size(), before + 1) << "frame " << frame;
+        return backend_.updates.empty() ? SceneChanges{} : backend_.updates.back();
+    }
+    uint32_t first_instance_id() const { return state_.instances.begin()->first; }
+    uint32_t emissive_material_id() const {
+        for (const auto& [id, m] : state_.materials)
+            if (m.is_emissive()) return id;
+        ADD_FAILURE() << "builtin:default has emitters";
+        return 0;
+    }
+    uint32_t plain_material_id() const {
+        for (const auto& [id, m] : state_.materials)
+            if (!m.is_emissive()) return id;
+        return 0;
+    }
+
+    TracerOptions options_;
+    RecordingBackend backend_;
+    std::vector<std::string> tiles_;
+    FrameWorker worker_;
+    SceneState state_;
+};
+
+TEST_F(FrameWorkerTest, TheFirstSceneIsAllNewAndTilesComeBack) {
+    ASSERT_EQ(backend_.updates.size(), 1u);
+    EXPECT_TRUE(backend_.updates[0].structure);
+    ASSERT_EQ(tiles_.size(), 1u);
+    auto t = wire::decode_tile(tiles_[0]);
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_EQ(t->unit_cost_us.size(), 1u) << "one 4-row unit, timed";
+}
+
+TEST_F(FrameWorkerTest, AMovedInstanceArrivesAsThatInstance) {
+    const uint32_t id = first_instance_id();
+    InstanceState moved = state_.instances.at(id);
+    moved.transform = glm::translate(moved.transform, Vec3(0.1f, 0.0f, 0.0f));
+    const SceneChanges c = change(1, SetInstance{id, moved});
+    EXPECT_FALSE(c.structure);
+    EXPECT_EQ(c.instances, std::vector<uint32_t>{0});
+    EXPECT_TRUE(c.mesh_vertices.empty() && c.materials.empty() && c.textures.empty());
+    EXPECT_FALSE(c.camera || c.settings || c.environment);
+}
+
+TEST_F(FrameWorkerTest, DeformedVerticesArriveAsThatMesh) {
+    const uint32_t mesh = state_.meshes.begin()->first;
+    const SceneChanges c =
+        change(1, UpdateVertexRange{mesh, 0, {state_.meshes.at(mesh).positions[0]}, {}, {}});
+    EXPECT_FALSE(c.structure);
+    EXPECT_EQ(c.mesh_vertices, std::vector<uint32_t>{0});
+    EXPECT_TRUE(c.instances.empty() && c.materials.empty());
+}
+
+TEST_F(FrameWorkerTest, MaterialAndLightEditsArriveAsMaterialsAndLights) {
+    const uint32_t plain = plain_material_id();
+    Material m = state_.materials.at(plain);
+    m.roughness_factor = 0.123f;
+    SceneChanges c = change(1, SetMaterial{plain, m});
+    EXPECT_FALSE(c.structure);
+    EXPECT_EQ(c.materials.size(), 1u);
+    EXPECT_FALSE(c.lights) << "a non-emissive material";
+    const uint32_t lamp = emissive_material_id();
+    Material off = state_.materials.at(lamp);
+    off.emissive_factor = Rgb(0.0f);  // the light is switched off
+    c = change(2, SetMaterial{lamp, off});
+    EXPECT_EQ(c.materials.size(), 1u);
+    EXPECT_TRUE(c.lights);
+}
+
+TEST_F(FrameWorkerTest, TexturesCameraSettingsAndEnvironmentArriveAsSuch) {
+    const uint32_t texture = state_.textures.begin()->first;
+    SceneChanges c = change(1, SetTexture{texture, state_.textures.at(texture)});
+    EXPECT_EQ(c.textures, std::vector<uint32_t>{0});
+    EXPECT_FALSE(c.structure);
+    Camera cam = state_.cameras.at(state_.active_camera);
+    cam.camera_to_world = glm::translate(cam.camera_to_world, Vec3(0.0f, 0.0f, 0.5f));
+    c = change(2, SetCamera{state_.active_camera, cam, true});
+    EXPECT_TRUE(c.camera);
+    EXPECT_EQ(c.instances.size(), backend_.instances) << "camera-relative: every instance moved";
+    c = change(3, SetSettings{RenderSettings{32, 16, 2, 3, 7}});
+    EXPECT_TRUE(c.settings && !c.camera && c.instances.empty());
+    c = change(4, SetEnvironment{Environment{}});
+    EXPECT_TRUE(c.environment && c.lights);
+}
+
+TEST_F(FrameWorkerTest, AddingOrRemovingObjectsIsStructural) {
+    EXPECT_TRUE(change(1, RemoveInstance{first_instance_id()}).structure);
+    Mesh tri;
+    tri.positions = {Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    tri.indices = {0, 1, 2};
+    tri.material = int(plain_material_id());
+    EXPECT_TRUE(change(2, AddMesh{9999, tri}).structure);
+}
+
+TEST_F(FrameWorkerTest, AnUnchangedSceneIsNotHandedToTheBackendAgain) {
+    send(Commit{1, 0, false, {}});
+    render(1);
+    EXPECT_EQ(backend_.updates.size(), 1u);
+}
+
+}  // namespace
+}  // namespace pathfarm::tracer

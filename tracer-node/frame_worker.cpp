@@ -1,0 +1,115 @@
+// The tracer's frame work: commits to the replica, the change set to the backend, rows to tiles.
+#include "tracer-node/frame_worker.h"
+
+#include <algorithm>
+#include <thread>
+
+#include "common/base/timer.h"
+#include "common/base/work_unit.h"
+#include "common/film/float_codec.h"
+
+namespace pathfarm::tracer {
+
+FrameWorker::FrameWorker(const TracerOptions& options, RenderBackend& backend, Send send,
+                         RenderControl control)
+    : options_(options), backend_(backend), send_(std::move(send)), control_(std::move(control)) {}
+
+Status FrameWorker::handle(const wire::TracerInbound& message) {
+    if (const auto* chunk = std::get_if<wire::ChunkPart>(&message)) {
+        replica_.add_chunk(chunk->frame, chunk->parsed);
+        return {};
+    }
+    if (const auto* commit = std::get_if<wire::CommitPart>(&message))
+        return replica_.apply(*commit->parsed, commit->frame);
+    if (const auto* a = std::get_if<wire::Assignment>(&message)) return render(*a);
+    return {};  // truncations are the inbox's
+}
+
+// The coordinator's mesh BVHs in SceneModel mesh order (to_scene_model keeps id order).
+std::vector<MeshBvhView> FrameWorker::mesh_bvhs() const {
+    std::vector<MeshBvhView> views;
+    const ReplicaState& state = replica_.state();
+    for (const auto& [id, mesh] : state.scene.meshes) {
+        const auto it = state.bvh.meshes.find(id);
+        views.push_back(it == state.bvh.meshes.end()
+                            ? MeshBvhView{}
+                            : MeshBvhView{&it->second.nodes, &it->second.prim_indices});
+    }
+    return views;
+}
+
+Status FrameWorker::update_backend() {
+    ReplicaScene next = replica_.take_scene();
+    scene_ = std::move(next.scene);
+    // Camera-relative, as pathfarm-render does (scene_model.h): same floats, same image. A
+    // camera move shifts every instance the backend sees.
+    recentre_on_camera(scene_, scene_.cameras.empty() ? Camera{} : scene_.cameras[0]);
+    SceneChanges& changes = next.changes;
+    if (changes.camera) {
+        changes.instances.resize(scene_.instances.size());
+        for (uint32_t i = 0; i < changes.instances.size(); ++i)
+            changes.instances[i] = i;
+    }
+    if (backend_.wants_bvh_nodes()) backend_.provide_mesh_bvhs(mesh_bvhs());
+    return backend_.update_scene(scene_, changes);
+}
+
+Status FrameWorker::render(const wire::Assignment& a) {
+    if (!replica_.initialised() || a.commit != replica_.commit())
+        return make_error(ErrorCode::invalid_argument,
+                          "assignment for commit {} but the replica holds {}", a.commit,
+                          replica_.commit());
+    if (replica_.scene_changed())
+        if (Status s = update_backend(); !s) return s;
+    RenderJob job;
+    job.frame = FrameSpec{int(a.width),
+                          int(a.height),
+                          uint32_t(a.frame),
+                          a.seed,
+                          int(a.spp),
+                          0,
+                          scene_.cameras.empty() ? Camera{} : scene_.cameras[0]};
+    job.integrator.max_depth = int(a.max_depth);
+    job.integrator.rr_scale = std::min(1.0f, a.rr_scale);
+    const int tile_rows = kRowsPerWorkUnit * kUnitsPerTile;
+    for (int y = int(a.y0); y < int(a.y1); y += tile_rows) {
+        if (control_.newest_commit() > a.commit) return {};  // the frame closed: drop stale rows
+        if (control_.truncated(a, uint32_t(y))) return {};   // the rest went to another tracer
+        if (Status s = render_tile(a, job, y, std::min(int(a.y1), y + tile_rows)); !s) return s;
+    }
+    return {};
+}
+
+Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y0, int y1) {
+    std::vector<float> rgb(std::size_t(y1 - y0) * a.width * 3);
+    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y1), {}, 0, 0.0, {}, {}};
+    const Timer tile_timer;
+    const double slowdown = frame_slowdown(options_, a.frame);
+    for (int y = y0; y < y1; y += kRowsPerWorkUnit) {        // one work unit at a time, timed
+        if (control_.newest_commit() > a.commit) return {};  // the frame closed meanwhile
+        if (control_.truncated(a, uint32_t(y))) {            // send what is done, not the rest
+            y1 = y;
+            break;
+        }
+        job.y0 = y;
+        job.y1 = std::min(y1, y + kRowsPerWorkUnit);
+        const Timer unit;
+        auto stats = backend_.render_rows(job, rgb.data() + std::size_t(y - y0) * a.width * 3);
+        if (!stats) return stats.error();
+        const double unit_s = unit.seconds();
+        if (slowdown > 1.0)  // an X times slower machine, unit by unit
+            std::this_thread::sleep_for(std::chrono::duration<double>((slowdown - 1.0) * unit_s));
+        tile.unit_cost_us.push_back(uint32_t(unit_s * 1e6));
+        tile.unit_rays.push_back(stats->counters.rays);
+    }
+    if (y1 == y0) return {};
+    rgb.resize(std::size_t(y1 - y0) * a.width * 3);
+    tile.y1 = uint32_t(y1);
+    tile.raw_bytes = uint32_t(rgb.size() * sizeof(float));
+    tile.rgb_zstd = compress_floats(rgb.data(), rgb.size());
+    tile.render_ms = tile_timer.milliseconds();
+    send_(wire::encode_tile(tile));
+    return {};
+}
+
+}  // namespace pathfarm::tracer

@@ -1,0 +1,49 @@
+// The tracer's work on one connection (DESIGN.md, "The frame" step 5): keeps a replica in step
+// with the coordinator's commits, hands the backend the scene and what changed, renders the
+// rows it is assigned one 4-row unit at a time (each timed for the balancer) and sends them as
+// tiles. No sockets: messages come in decoded, tiles go out through a callback, so tests drive
+// it directly.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "common/base/result.h"
+#include "common/wire/messages.h"
+#include "tracer-node/backend/render_backend.h"
+#include "tracer-node/replica/replica.h"
+#include "tracer-node/tracer_daemon.h"
+
+namespace pathfarm::tracer {
+
+// What the render in progress checks between units (the inbox, in the daemon).
+struct RenderControl {
+    std::function<uint64_t()> newest_commit;  // a newer frame was announced: stop
+    std::function<bool(const wire::Assignment&, uint32_t row)> truncated;  // rows went elsewhere
+};
+
+class FrameWorker {
+public:
+    using Send = std::function<void(std::string envelope)>;
+    FrameWorker(const TracerOptions& options, RenderBackend& backend, Send send,
+                RenderControl control);
+
+    // Handles one message; an error means the session must be dropped and re-synchronised.
+    Status handle(const wire::TracerInbound& message);
+    const Replica& replica() const { return replica_; }
+
+private:
+    Status render(const wire::Assignment& a);
+    Status update_backend();
+    Status render_tile(const wire::Assignment& a, RenderJob& job, int y0, int y1);
+    std::vector<MeshBvhView> mesh_bvhs() const;
+
+    const TracerOptions& options_;
+    RenderBackend& backend_;
+    Send send_;
+    RenderControl control_;
+    Replica replica_;
+    SceneModel scene_;  // what the backend renders; outlives its use by the backend
+};
+
+}  // namespace pathfarm::tracer
