@@ -55,8 +55,8 @@ PathTracer::PathTracer(const ShadingScene& shading, const LightSampler& lights,
     trace_ = kLoops[features_];
 }
 
-float PathTracer::light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp,
-                                        const Vec3& origin) const {
+float PathTracer::light_pdf_solid_angle(const Hit& hit, const Vec3& origin,
+                                        const SurfacePoint& sp) const {
     const float pdf_area = lights_.triangle_pdf_area(hit.instance, hit.prim);
     if (pdf_area <= 0.0f) return 0.0f;
     const Vec3 d = sp.p - origin;
@@ -118,88 +118,108 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
     return f * transmittance * ls->radiance * (weight / pdf_light);
 }
 
+// What a path carries from one vertex to the next.
+struct PathTracer::PathState {
+    Rgb radiance{0.0f};
+    Rgb beta{1.0f};
+    Rgb sigma_a{0.0f};         // absorption of the medium the ray travels in
+    bool delta_bounce = true;  // the camera and delta lobes: no MIS partner for emitters
+    float bsdf_pdf = 0.0f;
+    Vec3 last_point{0.0f};
+    // Emission found by BSDF sampling counts unless only light sampling estimates it.
+    bool counts_emission(LightStrategy s) const {
+        return delta_bounce || s != LightStrategy::light_only;
+    }
+};
+
+// The sun/sky along an escaping ray, weighted against light sampling.
+Rgb PathTracer::escaped(const PathState& s, const Vec3& d) const {
+    const Rgb le = lights_.environment_radiance(d);
+    const float w = s.delta_bounce || settings_.strategy == LightStrategy::bsdf_only
+                        ? 1.0f
+                        : power_heuristic(s.bsdf_pdf, lights_.environment_pdf(d));
+    return s.beta * le * w;
+}
+
+// Emission at a BSDF-sampled hit, weighted against light sampling of the same point.
+Rgb PathTracer::emission_at(const PathState& s, const Hit& hit, const SurfacePoint& sp,
+                            const Vec3& wo) const {
+    const Rgb le = shading_.emitted(sp, wo);
+    if (!(max_component(le) > 0.0f)) return Rgb(0.0f);
+    const float w = s.delta_bounce || settings_.strategy == LightStrategy::bsdf_only
+                        ? 1.0f
+                        : power_heuristic(s.bsdf_pdf, light_pdf_solid_angle(hit, s.last_point, sp));
+    return s.beta * le * w;
+}
+
+// Next-event estimation at sp, then the BSDF sample that continues the path (its medium and
+// Russian roulette included); false when the path ends here.
+template <bool kTransmission>
+bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
+                         SampleCounters& counters) const {
+    const Vec3 wo = -ray.d;
+    const MaterialPoint mp = shading_.material_point(sp);
+    const Bsdf bsdf(mp);
+    const Orientation o = orient(sp, wo, bsdf.transmissive());
+    const Vec3 wo_local = o.frame.to_local(wo);
+    s.radiance +=
+        s.beta * sample_direct(sp, bsdf, o.frame, o.ng, wo_local, s.sigma_a, sampler, counters);
+
+    const Vec2 u_lobe = sampler.next_2d();
+    const Vec2 u_dir = sampler.next_2d();
+    BsdfSample bs;
+    if (!bsdf.sample(wo_local, u_lobe.x, u_dir, bs)) return false;
+    const Vec3 wi = o.frame.to_world(bs.wi);
+    if (!consistent_side(wi, bs.wi, o.ng)) return false;
+    const Vec3 ng_out = glm::dot(wi, o.ng) > 0.0f ? o.ng : -o.ng;
+    s.beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
+    s.delta_bounce = bs.delta;
+    s.bsdf_pdf = bs.pdf;
+    if (kTransmission && bsdf.transmissive() && glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
+        s.sigma_a =
+            glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material) : Rgb(0.0f);
+    if (depth + 1 >= settings_.rr_start_depth) {
+        const float survive = std::min(1.0f, max_component(s.beta) * settings_.rr_scale);
+        if (u_lobe.y >= survive) return false;
+        s.beta /= survive;
+    }
+    s.last_point = sp.p;
+    ray.o = offset_ray_origin(sp.p, ng_out);
+    ray.d = wi;
+    ray.tmax = kInfinity;
+    return true;
+}
+
 template <uint32_t kFeatures>
 Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
     constexpr bool kEmitters = kFeatures & kFeatureEmitters;
     constexpr bool kEnvironment = kFeatures & kFeatureEnvironment;
     constexpr bool kTransmission = kFeatures & kFeatureTransmission;
-    Rgb radiance(0.0f);
-    Rgb beta(1.0f);
-    Rgb sigma_a(0.0f);         // absorption of the medium the ray travels in
-    bool delta_bounce = true;  // the camera and delta lobes: no MIS partner for emitters
-    float bsdf_pdf = 0.0f;
-    Vec3 last_point = ray.o;
+    PathState s;
+    s.last_point = ray.o;
     ++counters.camera_samples;
-
     for (int depth = 0;; ++depth) {
         Hit hit;
         ++counters.rays;
         const bool found = kernel_.intersect(ray, hit);
-        const bool count_emission = delta_bounce || settings_.strategy != LightStrategy::light_only;
+        const bool count_emission = s.counts_emission(settings_.strategy);
         if (!found) {
-            if (kEnvironment && lights_.has_environment() && count_emission) {
-                const Rgb le = lights_.environment_radiance(ray.d);
-                const float w = delta_bounce || settings_.strategy == LightStrategy::bsdf_only
-                                    ? 1.0f
-                                    : power_heuristic(bsdf_pdf, lights_.environment_pdf(ray.d));
-                radiance += beta * le * w;
-            }
+            if (kEnvironment && lights_.has_environment() && count_emission)
+                s.radiance += escaped(s, ray.d);
             break;
         }
-        if (kTransmission && max_component(sigma_a) > 0.0f) beta *= glm::exp(-sigma_a * hit.t);
-
+        if (kTransmission && max_component(s.sigma_a) > 0.0f)
+            s.beta *= glm::exp(-s.sigma_a * hit.t);
         SurfacePoint sp = shading_.surface(hit);
-        const Vec3 wo = -ray.d;
-        if (kEmitters && count_emission) {
-            const Rgb le = shading_.emitted(sp, wo);
-            if (max_component(le) > 0.0f) {
-                const float w =
-                    delta_bounce || settings_.strategy == LightStrategy::bsdf_only
-                        ? 1.0f
-                        : power_heuristic(bsdf_pdf, light_pdf_solid_angle(hit, sp, last_point));
-                radiance += beta * le * w;
-            }
-        }
+        if (kEmitters && count_emission) s.radiance += emission_at(s, hit, sp, -ray.d);
         if (depth >= settings_.max_depth) break;
-
-        const MaterialPoint mp = shading_.material_point(sp);
-        const Bsdf bsdf(mp);
-        const Orientation o = orient(sp, wo, bsdf.transmissive());
-        const Vec3 wo_local = o.frame.to_local(wo);
-        radiance +=
-            beta * sample_direct(sp, bsdf, o.frame, o.ng, wo_local, sigma_a, sampler, counters);
-
-        const Vec2 u_lobe = sampler.next_2d();
-        const Vec2 u_dir = sampler.next_2d();
-        BsdfSample bs;
-        if (!bsdf.sample(wo_local, u_lobe.x, u_dir, bs)) break;
-        const Vec3 wi = o.frame.to_world(bs.wi);
-        if (!consistent_side(wi, bs.wi, o.ng)) break;
-        const Vec3 ng_out = glm::dot(wi, o.ng) > 0.0f ? o.ng : -o.ng;
-        beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
-        delta_bounce = bs.delta;
-        bsdf_pdf = bs.pdf;
-
-        if (kTransmission && bsdf.transmissive() &&
-            glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
-            sigma_a = glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material)
-                                                 : Rgb(0.0f);
-
-        if (depth + 1 >= settings_.rr_start_depth) {
-            const float survive = std::min(1.0f, max_component(beta) * settings_.rr_scale);
-            if (u_lobe.y >= survive) break;
-            beta /= survive;
-        }
-        last_point = sp.p;
-        ray.o = offset_ray_origin(sp.p, ng_out);
-        ray.d = wi;
-        ray.tmax = kInfinity;
+        if (!scatter<kTransmission>(s, ray, sp, depth, sampler, counters)) break;
     }
-    if (!is_finite(radiance)) {
+    if (!is_finite(s.radiance)) {
         ++counters.nonfinite_samples;
         return Rgb(0.0f);
     }
-    return radiance;
+    return s.radiance;
 }
 
 }  // namespace pathfarm

@@ -72,7 +72,15 @@ private:
     Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
                       const Vec3& shading_ng, const Vec3& wo_local, const Rgb& sigma_a,
                       PixelSampler& sampler, SampleCounters& counters) const;
-    float light_pdf_solid_angle(const Hit& hit, const SurfacePoint& sp, const Vec3& origin) const;
+    // Density (solid angle, from origin) of light sampling choosing the emitter point sp.
+    float light_pdf_solid_angle(const Hit& hit, const Vec3& origin, const SurfacePoint& sp) const;
+    struct PathState;
+    Rgb escaped(const PathState& s, const Vec3& d) const;
+    Rgb emission_at(const PathState& s, const Hit& hit, const SurfacePoint& sp,
+                    const Vec3& wo) const;
+    template <bool kTransmission>
+    bool scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
+                 SampleCounters& counters) const;
 
     const ShadingScene& shading_;
     const LightSampler& lights_;

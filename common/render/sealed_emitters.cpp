@@ -128,56 +128,89 @@ bool SealedEmitters::adopt_translated(const SceneModel& scene) {
     return true;
 }
 
-SealedEmitters::SealedEmitters(const SceneModel& scene) : instance_count_(scene.instances.size()) {
-    geometry_hash_ = geometry_hash(scene);
-    for (const Instance& inst : scene.instances) {
-        linear_.push_back(Mat3(inst.transform));
-        translation_.push_back(glm::dvec3(Vec3(inst.transform[3])));
-    }
-    // World triangles of opaque occluders.
+namespace {
+
+// World triangles (three points each) of the opaque occluders; nothing past kMaxTriangles.
+std::optional<std::vector<Vec3>> occluder_triangles(const SceneModel& scene) {
     std::vector<Vec3> tris;
     for (const Instance& inst : scene.instances) {
         const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
         const Material& m = scene.materials[std::size_t(std::max(mesh.material, 0))];
         if (!is_opaque_occluder(m)) continue;
-        if (tris.size() / 3 + mesh.triangle_count() > kMaxTriangles) return;
+        if (tris.size() / 3 + mesh.triangle_count() > SealedEmitters::kMaxTriangles)
+            return std::nullopt;
         for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
             for (int k = 0; k < 3; ++k)
                 tris.push_back(
                     transform_point(inst.transform, mesh.positions[mesh.indices[3 * t + k]]));
     }
+    return tris;
+}
+
+// The welded mesh's connectivity: triangles joined through shared edges, and which of those
+// components are closed (every edge used by exactly two triangles).
+struct Connectivity {
+    UnionFind components;
+    std::vector<bool> degenerate;  // welded away: it neither closes nor opens a surface
+    std::vector<uint8_t> open;     // by component root
+    explicit Connectivity(std::size_t n) : components(n), degenerate(n, false), open(n, 0) {}
+};
+
+Connectivity connect(const std::vector<Vec3>& tris) {
     const std::size_t n = tris.size() / 3;
-    if (n == 0) return;
     std::unordered_map<VertexKey, uint32_t, VertexKeyHash> vertex_ids;
     std::vector<uint32_t> ids(tris.size());
     for (std::size_t i = 0; i < tris.size(); ++i)
         ids[i] = vertex_ids.emplace(key_of(tris[i]), uint32_t(vertex_ids.size())).first->second;
+    Connectivity c(n);
     // Undirected edge -> (triangles using it, one of them).
     std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> edges;
-    UnionFind components(n);
-    std::vector<bool> degenerate(n, false);
     for (uint32_t t = 0; t < n; ++t) {
         const uint32_t v[3] = {ids[3 * t], ids[3 * t + 1], ids[3 * t + 2]};
         if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
-            degenerate[t] = true;  // welded away: it neither closes nor opens a surface
+            c.degenerate[t] = true;
             continue;
         }
         for (int k = 0; k < 3; ++k) {
             const uint32_t a = std::min(v[k], v[(k + 1) % 3]), b = std::max(v[k], v[(k + 1) % 3]);
             auto [it, added] = edges.try_emplace((uint64_t(a) << 32) | b, 0u, t);
             ++it->second.first;
-            if (!added) components.unite(t, it->second.second);
+            if (!added) c.components.unite(t, it->second.second);
         }
     }
-    // A component is closed when each of its edges is used by exactly two triangles.
-    std::vector<uint8_t> open(n, 0);
     for (const auto& [edge, use] : edges)
-        if (use.first != 2) open[components.find(use.second)] = 1;
+        if (use.first != 2) c.open[c.components.find(use.second)] = 1;
+    return c;
+}
+
+}  // namespace
+
+SealedEmitters::SealedEmitters(const SceneModel& scene) : instance_count_(scene.instances.size()) {
+    geometry_hash_ = geometry_hash(scene);
+    for (const Instance& inst : scene.instances) {
+        linear_.push_back(Mat3(inst.transform));
+        translation_.push_back(glm::dvec3(Vec3(inst.transform[3])));
+    }
+    const auto tris = occluder_triangles(scene);
+    if (!tris || tris->empty()) return;
+    find_enclosures(*tris);
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const Mesh& mesh = scene.meshes[std::size_t(scene.instances[i].mesh)];
+        if (!scene.materials[std::size_t(std::max(mesh.material, 0))].is_emissive() ||
+            mesh.triangle_count() == 0)
+            continue;
+        for (Enclosure& e : enclosures_)
+            e.emitters.emplace_back(i, emitter_side(e, scene.instances[i], mesh));
+    }
+}
+
+void SealedEmitters::find_enclosures(const std::vector<Vec3>& tris) {
+    Connectivity c = connect(tris);
     std::unordered_map<uint32_t, std::size_t> enclosure_of_root;
-    for (uint32_t t = 0; t < n; ++t) {
-        if (degenerate[t]) continue;
-        const uint32_t root = components.find(t);
-        if (open[root]) continue;
+    for (uint32_t t = 0; t < tris.size() / 3; ++t) {
+        if (c.degenerate[t]) continue;
+        const uint32_t root = c.components.find(t);
+        if (c.open[root]) continue;
         auto [it, added] = enclosure_of_root.try_emplace(root, enclosures_.size());
         if (added) enclosures_.emplace_back();
         Enclosure& e = enclosures_[it->second];
@@ -186,42 +219,34 @@ SealedEmitters::SealedEmitters(const SceneModel& scene) : instance_count_(scene.
             e.bounds.extend(tris[3 * t + k]);
         }
     }
-    // Emissive instances: inside when every vertex, nudged towards its triangle's centre and off
-    // its front face (panels are often flush with a wall), is inside.
-    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-        const Instance& inst = scene.instances[i];
-        const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
-        if (!scene.materials[std::size_t(std::max(mesh.material, 0))].is_emissive() ||
-            mesh.triangle_count() == 0)
-            continue;
-        for (Enclosure& e : enclosures_) {
-            Side side = Side::unknown;
-            // Bound the parity tests' cost; an emitter left unknown is never culled.
-            if (double(mesh.triangle_count()) * 3.0 * double(e.triangles.size() / 3) > 5e7) {
-                e.emitters.emplace_back(i, Side::unknown);
-                continue;
-            }
-            for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-                Vec3 p[3];
-                for (int k = 0; k < 3; ++k)
-                    p[k] = transform_point(inst.transform, mesh.positions[mesh.indices[3 * t + k]]);
-                const Vec3 centre = (p[0] + p[1] + p[2]) / 3.0f;
-                const Vec3 normal = glm::cross(p[1] - p[0], p[2] - p[0]);
-                const float len = glm::length(normal);
-                const float size =
-                    std::max({glm::length(p[1] - p[0]), glm::length(p[2] - p[0]), 1e-6f});
-                const Vec3 off = len > 0.0f ? normal / len * (1e-3f * size) : Vec3(0.0f);
-                Side tri_side = Side::unknown;
-                for (int k = 0; k < 3; ++k) {
-                    const Side s = side_of(e, glm::mix(p[k], centre, 0.01f) + off);
-                    tri_side = k == 0 ? s : (s == tri_side ? s : Side::unknown);
-                }
-                side = t == 0 ? tri_side : (tri_side == side ? side : Side::unknown);
-                if (side == Side::unknown) break;
-            }
-            e.emitters.emplace_back(i, side);
+}
+
+// An emissive instance is inside when every vertex, nudged towards its triangle's centre and
+// off its front face (panels are often flush with a wall), is inside.
+SealedEmitters::Side SealedEmitters::emitter_side(const Enclosure& e, const Instance& inst,
+                                                  const Mesh& mesh) const {
+    // Bound the parity tests' cost; an emitter left unknown is never culled.
+    if (double(mesh.triangle_count()) * 3.0 * double(e.triangles.size() / 3) > 5e7)
+        return Side::unknown;
+    Side side = Side::unknown;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        Vec3 p[3];
+        for (int k = 0; k < 3; ++k)
+            p[k] = transform_point(inst.transform, mesh.positions[mesh.indices[3 * t + k]]);
+        const Vec3 centre = (p[0] + p[1] + p[2]) / 3.0f;
+        const Vec3 normal = glm::cross(p[1] - p[0], p[2] - p[0]);
+        const float len = glm::length(normal);
+        const float size = std::max({glm::length(p[1] - p[0]), glm::length(p[2] - p[0]), 1e-6f});
+        const Vec3 off = len > 0.0f ? normal / len * (1e-3f * size) : Vec3(0.0f);
+        Side tri_side = Side::unknown;
+        for (int k = 0; k < 3; ++k) {
+            const Side s = side_of(e, glm::mix(p[k], centre, 0.01f) + off);
+            tri_side = k == 0 ? s : (s == tri_side ? s : Side::unknown);
         }
+        side = t == 0 ? tri_side : (tri_side == side ? side : Side::unknown);
+        if (side == Side::unknown) break;
     }
+    return side;
 }
 
 std::vector<bool> SealedEmitters::culled(const Vec3& viewer_now) const {

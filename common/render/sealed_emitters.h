@@ -43,6 +43,9 @@ private:
         std::vector<std::pair<uint32_t, Side>> emitters;  // emissive instance, its side
     };
     static Side side_of(const Enclosure& e, const Vec3& p);
+    // The closed surfaces among the occluders' world triangles (three points each).
+    void find_enclosures(const std::vector<Vec3>& tris);
+    Side emitter_side(const Enclosure& e, const Instance& inst, const Mesh& mesh) const;
 
     static uint64_t geometry_hash(const SceneModel& scene);
 

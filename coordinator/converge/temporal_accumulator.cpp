@@ -33,6 +33,71 @@ void neighbourhood(const FloatImage& image, int x, int y, Rgb& mean, Rgb& sigma)
     sigma = glm::sqrt(glm::max(sum2 / float(n) - mean * mean, Rgb(0.0f)));
 }
 
+// How this frame's surfaces moved since the last: the camera, and each instance that moved.
+struct Motion {
+    bool camera_moved = false;
+    std::set<uint32_t> moving;             // moved, deformed or new instances
+    std::map<uint32_t, Mat4> to_previous;  // this frame's world to last frame's, per mover
+};
+
+Motion motion_between(const FrameView& prev, const FrameView& view) {
+    Motion m;
+    m.camera_moved = prev.camera.camera_to_world != view.camera.camera_to_world ||
+                     prev.camera.yfov_radians != view.camera.yfov_radians;
+    m.moving = view.deformed;
+    for (const auto& [id, to_world] : view.instances) {
+        const auto it = prev.instances.find(id);
+        if (it == prev.instances.end()) {
+            m.moving.insert(id);  // new this frame: nothing of it is in the history
+        } else if (it->second != to_world) {
+            m.to_previous[id] = it->second * glm::inverse(to_world);
+            m.moving.insert(id);
+        }
+    }
+    return m;
+}
+
+// Where pixel (x, y)'s surface was last frame, and whether the history pixel there saw it.
+struct Reprojection {
+    bool valid = false;
+    int hx = 0, hy = 0;  // the history pixel
+    bool object_moves = false;
+};
+
+Reprojection reproject(const Motion& m, const CameraProjector& project_prev, const FrameView& prev,
+                       const FrameView& view, float depth_tolerance, int x, int y) {
+    const GBuffer& g = view.gbuffer;
+    const int w = g.width, h = g.height;
+    const std::size_t i = std::size_t(y) * w + x;
+    const uint32_t inst = g.instance[i];
+    Reprojection r;
+    r.object_moves = inst != GBuffer::kNoInstance && m.moving.count(inst);
+    float px = x + 0.5f, py = y + 0.5f;
+    bool on_screen = true;
+    float expected = g.distance[i];
+    if (m.camera_moved || r.object_moves) {
+        if (inst == GBuffer::kNoInstance) {  // the sky: by direction
+            const Ray ray = generate_camera_ray(view.camera, w, h, x + 0.5f, y + 0.5f);
+            on_screen = project_prev.direction(ray.d, px, py);
+        } else {
+            Vec3 p = g.position[i];
+            if (const auto it = m.to_previous.find(inst); it != m.to_previous.end())
+                p = transform_point(it->second, p);
+            on_screen = !view.deformed.count(inst) && prev.instances.count(inst) &&
+                        project_prev.point(p, px, py);
+            expected = glm::length(p - project_prev.eye());
+        }
+    }
+    r.hx = int(std::floor(px));
+    r.hy = int(std::floor(py));
+    if (!on_screen || r.hx < 0 || r.hy < 0 || r.hx >= w || r.hy >= h) return r;
+    const std::size_t j = std::size_t(r.hy) * w + r.hx;
+    r.valid = prev.gbuffer.instance[j] == inst &&
+              (inst == GBuffer::kNoInstance ||
+               std::abs(prev.gbuffer.distance[j] - expected) <= depth_tolerance * expected);
+    return r;
+}
+
 }  // namespace
 
 float TemporalAccumulator::min_history_frames() const {
@@ -56,22 +121,8 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
         return {1.0, 0.0, 1.0};
     }
     const FrameView& prev = *previous_;
-    const GBuffer& g = view.gbuffer;
-    const bool camera_moved = prev.camera.camera_to_world != view.camera.camera_to_world ||
-                              prev.camera.yfov_radians != view.camera.yfov_radians;
+    const Motion motion = motion_between(prev, view);
     const CameraProjector project_prev(prev.camera, w, h);
-    // Per instance: this frame's world to last frame's world, for instances that moved.
-    std::map<uint32_t, Mat4> to_previous;
-    std::set<uint32_t> moving = view.deformed;
-    for (const auto& [id, m] : view.instances) {
-        const auto it = prev.instances.find(id);
-        if (it == prev.instances.end()) {
-            moving.insert(id);  // new this frame: nothing of it is in the history
-        } else if (it->second != m) {
-            to_previous[id] = it->second * glm::inverse(m);
-            moving.insert(id);
-        }
-    }
     FloatImage out(w, h);
     std::vector<float> frames(n, 1.0f);
     const Totals totals = tbb::parallel_reduce(
@@ -79,57 +130,28 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
         [&](const tbb::blocked_range<int>& rows, Totals t) {
             for (int y = rows.begin(); y < rows.end(); ++y)
                 for (int x = 0; x < w; ++x) {
-                    const std::size_t i = std::size_t(y) * w + x;
                     const Rgb c = image.pixel(x, y);
-                    const uint32_t inst = g.instance[i];
-                    const bool object_moves = inst != GBuffer::kNoInstance && moving.count(inst);
-                    // Where this pixel's surface was last frame, and which history pixel saw it.
-                    float px = x + 0.5f, py = y + 0.5f;
-                    bool on_screen = true;
-                    float expected = g.distance[i];
-                    if (camera_moved || object_moves) {
-                        if (inst == GBuffer::kNoInstance) {  // the sky: by direction
-                            const Ray r =
-                                generate_camera_ray(view.camera, w, h, x + 0.5f, y + 0.5f);
-                            on_screen = project_prev.direction(r.d, px, py);
-                        } else {
-                            Vec3 p = g.position[i];
-                            if (const auto it = to_previous.find(inst); it != to_previous.end())
-                                p = transform_point(it->second, p);
-                            on_screen = !view.deformed.count(inst) && prev.instances.count(inst) &&
-                                        project_prev.point(p, px, py);
-                            expected = glm::length(p - project_prev.eye());
-                        }
-                    }
-                    const int hx = int(std::floor(px)), hy = int(std::floor(py));
-                    bool valid = on_screen && hx >= 0 && hy >= 0 && hx < w && hy < h;
-                    std::size_t j = 0;
-                    if (valid) {
-                        j = std::size_t(hy) * w + hx;
-                        valid = prev.gbuffer.instance[j] == inst &&
-                                (inst == GBuffer::kNoInstance ||
-                                 std::abs(prev.gbuffer.distance[j] - expected) <=
-                                     o_.depth_tolerance * expected);
-                    }
-                    if (!valid) {
+                    const Reprojection r =
+                        reproject(motion, project_prev, prev, view, o_.depth_tolerance, x, y);
+                    if (!r.valid) {
                         out.set_pixel(x, y, c);
                         t.f += 1.0;
                         t.frames += 1.0;
                         continue;
                     }
-                    Rgb history = history_.pixel(hx, hy);
-                    float k = frames_[j] + 1.0f;
-                    if (camera_moved || object_moves) {
+                    Rgb history = history_.pixel(r.hx, r.hy);
+                    float k = frames_[std::size_t(r.hy) * w + r.hx] + 1.0f;
+                    if (motion.camera_moved || r.object_moves) {
                         Rgb mean, sigma;
                         neighbourhood(image, x, y, mean, sigma);
                         history = glm::clamp(history, mean - o_.clamp_sigmas * sigma,
                                              mean + o_.clamp_sigmas * sigma);
-                        const float floor = object_moves ? o_.object_floor : o_.camera_floor;
+                        const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
                         k = std::min(k, 1.0f / floor);
                     }
                     const float f = 1.0f / k;
                     out.set_pixel(x, y, history + f * (c - history));
-                    frames[i] = k;
+                    frames[std::size_t(y) * w + x] = k;
                     t.f += f;
                     t.kept += 1.0;
                     t.frames += k;

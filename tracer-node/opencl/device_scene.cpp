@@ -204,60 +204,69 @@ bool is_traversable_bvh(const std::vector<BvhNode>& nodes, const std::vector<uin
     return std::all_of(prims.begin(), prims.end(), [&](uint32_t p) { return p < triangle_count; });
 }
 
-PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& bvhs,
-                       LocalBvhCache& cache) {
-    PackedScene out;
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-        const Mesh& mesh = scene.meshes[m];
-        PfMesh pm{};
-        const std::size_t nv = mesh.positions.size();
-        pm.first_index = uint32_t(out.indices.size());
-        pm.triangle_count = uint32_t(mesh.triangle_count());
-        pm.first_vertex = uint32_t(out.positions.size() / 3);
-        pm.material = mesh.material;
-        pm.flags =
-            (mesh.normals.size() == nv && nv > 0 ? PF_MESH_NORMALS : 0u) |
-            (mesh.uvs.size() == nv && nv > 0 ? PF_MESH_UVS : 0u) |
-            (mesh.tangents.size() == nv && nv > 0 ? PF_MESH_TANGENTS : 0u) |
-            (scene.materials[std::size_t(mesh.material)].alpha_tested() ? PF_MESH_ALPHA_TESTED
-                                                                        : 0u);
-        for (std::size_t v = 0; v < nv; ++v) {
-            const Vec3 zero3(0.0f);
-            const Vec3& p = mesh.positions[v];
-            const Vec3& n = (pm.flags & PF_MESH_NORMALS) ? mesh.normals[v] : zero3;
-            const Vec2 uv = (pm.flags & PF_MESH_UVS) ? mesh.uvs[v] : Vec2(0.0f);
-            const Vec4 t = (pm.flags & PF_MESH_TANGENTS) ? mesh.tangents[v] : Vec4(0.0f);
-            out.positions.insert(out.positions.end(), {p.x, p.y, p.z});
-            out.normals.insert(out.normals.end(), {n.x, n.y, n.z});
-            out.uvs.insert(out.uvs.end(), {uv.x, uv.y});
-            out.tangents.insert(out.tangents.end(), {t.x, t.y, t.z, t.w});
-        }
-        out.indices.insert(out.indices.end(), mesh.indices.begin(),
-                           mesh.indices.begin() + std::ptrdiff_t(3 * mesh.triangle_count()));
-        const std::vector<BvhNode>* nodes = nullptr;
-        const std::vector<uint32_t>* prims = nullptr;
-        if (m < bvhs.size() && bvhs[m].nodes && bvhs[m].prim_indices &&
-            is_traversable_bvh(*bvhs[m].nodes, *bvhs[m].prim_indices, mesh.triangle_count())) {
-            nodes = bvhs[m].nodes;
-            prims = bvhs[m].prim_indices;
-        } else {
-            const Bvh& own = cache.get(m, mesh);
-            nodes = &own.nodes;
-            prims = &own.prim_indices;
-            ++out.meshes_with_own_bvh;
-        }
-        pm.first_node = uint32_t(out.nodes.size());
-        pm.node_count = pm.triangle_count > 0 ? uint32_t(nodes->size()) : 0u;
-        pm.first_prim = uint32_t(out.prims.size());
-        for (const BvhNode& n : *nodes) {
-            PfBvhNode pn;
-            std::memcpy(&pn, &n, sizeof pn);
-            out.nodes.push_back(pn);
-        }
-        out.prims.insert(out.prims.end(), prims->begin(), prims->end());
-        out.meshes.push_back(pm);
-    }
+namespace {
 
+uint32_t mesh_flags(const SceneModel& scene, const Mesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    return (mesh.normals.size() == nv && nv > 0 ? PF_MESH_NORMALS : 0u) |
+           (mesh.uvs.size() == nv && nv > 0 ? PF_MESH_UVS : 0u) |
+           (mesh.tangents.size() == nv && nv > 0 ? PF_MESH_TANGENTS : 0u) |
+           (scene.materials[std::size_t(mesh.material)].alpha_tested() ? PF_MESH_ALPHA_TESTED : 0u);
+}
+
+void append_nodes(const std::vector<BvhNode>& nodes, std::vector<PfBvhNode>& out) {
+    for (const BvhNode& n : nodes) {
+        PfBvhNode pn;
+        std::memcpy(&pn, &n, sizeof pn);
+        out.push_back(pn);
+    }
+}
+
+// Mesh m's vertices, indices and BVH (the coordinator's if it is safe to traverse, else the
+// tracer's own) appended to the arrays.
+void pack_mesh(const SceneModel& scene, std::size_t m, const std::vector<MeshBvhView>& bvhs,
+               LocalBvhCache& cache, PackedScene& out) {
+    const Mesh& mesh = scene.meshes[m];
+    PfMesh pm{};
+    pm.first_index = uint32_t(out.indices.size());
+    pm.triangle_count = uint32_t(mesh.triangle_count());
+    pm.first_vertex = uint32_t(out.positions.size() / 3);
+    pm.material = mesh.material;
+    pm.flags = mesh_flags(scene, mesh);
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3& p = mesh.positions[v];
+        const Vec3 n = (pm.flags & PF_MESH_NORMALS) ? mesh.normals[v] : Vec3(0.0f);
+        const Vec2 uv = (pm.flags & PF_MESH_UVS) ? mesh.uvs[v] : Vec2(0.0f);
+        const Vec4 t = (pm.flags & PF_MESH_TANGENTS) ? mesh.tangents[v] : Vec4(0.0f);
+        out.positions.insert(out.positions.end(), {p.x, p.y, p.z});
+        out.normals.insert(out.normals.end(), {n.x, n.y, n.z});
+        out.uvs.insert(out.uvs.end(), {uv.x, uv.y});
+        out.tangents.insert(out.tangents.end(), {t.x, t.y, t.z, t.w});
+    }
+    out.indices.insert(out.indices.end(), mesh.indices.begin(),
+                       mesh.indices.begin() + std::ptrdiff_t(3 * mesh.triangle_count()));
+    const std::vector<BvhNode>* nodes = nullptr;
+    const std::vector<uint32_t>* prims = nullptr;
+    if (m < bvhs.size() && bvhs[m].nodes && bvhs[m].prim_indices &&
+        is_traversable_bvh(*bvhs[m].nodes, *bvhs[m].prim_indices, mesh.triangle_count())) {
+        nodes = bvhs[m].nodes;
+        prims = bvhs[m].prim_indices;
+    } else {
+        const Bvh& own = cache.get(m, mesh);
+        nodes = &own.nodes;
+        prims = &own.prim_indices;
+        ++out.meshes_with_own_bvh;
+    }
+    pm.first_node = uint32_t(out.nodes.size());
+    pm.node_count = pm.triangle_count > 0 ? uint32_t(nodes->size()) : 0u;
+    pm.first_prim = uint32_t(out.prims.size());
+    append_nodes(*nodes, out.nodes);
+    out.prims.insert(out.prims.end(), prims->begin(), prims->end());
+    out.meshes.push_back(pm);
+}
+
+// The instances and the top-level BVH over their world boxes (meshes packed first).
+void pack_instances(const SceneModel& scene, PackedScene& out) {
     std::vector<Bounds3f> boxes;
     std::vector<uint32_t> box_instance;
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
@@ -265,33 +274,23 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
         out.instances.push_back(pack_instance(inst));
         const PfMesh& pm = out.meshes[std::size_t(inst.mesh)];
         if (pm.node_count == 0) continue;
-        PfBvhNode root = out.nodes[pm.first_node];
-        BvhNode r;
-        std::memcpy(&r, &root, sizeof r);
-        const Bounds3f b = instance_bounds(r, inst.transform);
+        BvhNode root;
+        std::memcpy(&root, &out.nodes[pm.first_node], sizeof root);
+        const Bounds3f b = instance_bounds(root, inst.transform);
         if (b.empty() || !is_finite(b.lower) || !is_finite(b.upper)) continue;
         boxes.push_back(b);
         box_instance.push_back(i);
     }
     if (!boxes.empty()) {
         const Bvh top = build_bvh(boxes);
-        for (const BvhNode& n : top.nodes) {
-            PfBvhNode pn;
-            std::memcpy(&pn, &n, sizeof pn);
-            out.top_nodes.push_back(pn);
-        }
+        append_nodes(top.nodes, out.top_nodes);
         for (uint32_t p : top.prim_indices)
             out.top_prims.push_back(box_instance[p]);
     }
     out.globals.instance_count = uint32_t(out.top_prims.size());
-    for (int i = 0; i < 256; ++i)
-        out.globals.srgb_to_linear[i] = srgb_to_linear(float(i) / 255.0f);
-    for (int b = 0; b < 4; ++b)
-        for (int v = 0; v < 256; ++v)
-            out.globals.sobol_dim1[256 * b + v] = detail::kSobolDim1.table[b][v];
+}
 
-    for (const Material& m : scene.materials)
-        out.materials.push_back(pack_material(m));
+void pack_textures(const SceneModel& scene, PackedScene& out) {
     std::vector<uint32_t> image_first(scene.images.size(), 0);
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
         image_first[i] = uint32_t(out.texels.size() / 4);
@@ -300,21 +299,38 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
     }
     for (const Texture& t : scene.textures) {
         PfTexture pt{};
-        const bool ok = t.image >= 0 && std::size_t(t.image) < scene.images.size() &&
-                        scene.images[std::size_t(t.image)].rgba.size() ==
-                            std::size_t(scene.images[std::size_t(t.image)].width) *
-                                std::size_t(scene.images[std::size_t(t.image)].height) * 4;
-        if (ok) {
-            const Image& im = scene.images[std::size_t(t.image)];
+        const Image* im = t.image >= 0 && std::size_t(t.image) < scene.images.size()
+                              ? &scene.images[std::size_t(t.image)]
+                              : nullptr;
+        if (im && im->rgba.size() == std::size_t(im->width) * std::size_t(im->height) * 4) {
             pt.first_texel = image_first[std::size_t(t.image)];
-            pt.width = im.width;
-            pt.height = im.height;
+            pt.width = im->width;
+            pt.height = im->height;
         }
-        pt.filter = t.sampler.filter == FilterMode::nearest ? 0u : 1u;
+        pt.filter = t.sampler.filter == FilterMode::nearest ? PF_FILTER_NEAREST : PF_FILTER_LINEAR;
         pt.wrap_s = uint32_t(t.sampler.wrap_s);
         pt.wrap_t = uint32_t(t.sampler.wrap_t);
         out.textures.push_back(pt);
     }
+}
+
+}  // namespace
+
+PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& bvhs,
+                       LocalBvhCache& cache) {
+    PackedScene out;
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+        pack_mesh(scene, m, bvhs, cache, out);
+    pack_instances(scene, out);
+    // The tables the kernels read instead of computing (docs/opencl.md): sRGB and Sobol.
+    for (int i = 0; i < 256; ++i)
+        out.globals.srgb_to_linear[i] = srgb_to_linear(float(i) / 255.0f);
+    for (int b = 0; b < 4; ++b)
+        for (int v = 0; v < 256; ++v)
+            out.globals.sobol_dim1[256 * b + v] = detail::kSobolDim1.table[b][v];
+    for (const Material& m : scene.materials)
+        out.materials.push_back(pack_material(m));
+    pack_textures(scene, out);
     pack_lights(scene, {}, out);
     return out;
 }
