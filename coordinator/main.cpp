@@ -130,6 +130,11 @@ void add_farm_options(CLI::App& app, Command& c) {
         ->capture_default_str()
         ->check(CLI::IsMember(
             {"none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive", "ours"}));
+    app.add_option("--speed-smoothing", f.speed_smoothing,
+                   "cost-predictive: weight of the last frame in each tracer's smoothed speed "
+                   "(1: no smoothing)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.01, 1.0));
     app.add_option("--record-costs", f.record_costs,
                    "Per frame and work unit, for the simulator (record with one tracer)" +
                        columns(pathfarm::coord::kUnitCostColumns));

@@ -98,12 +98,15 @@ private:
 // predicted finish time (cost / speed) is equal.
 class CostPredictive final : public Balancer {
 public:
+    explicit CostPredictive(double speed_alpha) : alpha_(speed_alpha) {}
     std::string name() const override { return "cost-predictive"; }
     bool steals_mid_frame() const override { return true; }
     std::vector<RowRange> assign(const BalanceInput& in) override {
         const int units = work_units(in.height);
-        if (!have_last_split(in) || int(in.unit_cost.size()) != units)
+        if (!have_last_split(in) || int(in.unit_cost.size()) != units) {
+            smoothed_.clear();
             return Perfect(1.0).assign(in);  // no cost map yet: fall back to speeds
+        }
         std::vector<double> prefix(std::size_t(units) + 1, 0.0);
         for (int u = 0; u < units; ++u)
             prefix[std::size_t(u) + 1] =
@@ -117,6 +120,7 @@ public:
                     ? in.last[i].cost_per_ms
                     : (prefix[std::size_t(u1)] - prefix[std::size_t(u0)]) / in.last[i].render_ms;
         }
+        smooth(speed);
         const double total_speed = std::accumulate(speed.begin(), speed.end(), 0.0);
         std::vector<int> counts;
         int begin = 0;
@@ -136,6 +140,18 @@ public:
         counts.push_back(units - begin);
         return ranges_from_units(counts, in.height);
     }
+
+private:
+    // One frame's speed measurement is noisy (the split is cut on it); the tracers' speeds change
+    // slowly, and a sudden change within a frame is the steal's to absorb.
+    void smooth(std::vector<double>& speed) {
+        if (smoothed_.size() != speed.size()) smoothed_ = speed;
+        for (std::size_t i = 0; i < speed.size(); ++i)
+            speed[i] = smoothed_[i] = alpha_ * speed[i] + (1.0 - alpha_) * smoothed_[i];
+    }
+
+    double alpha_;
+    std::vector<double> smoothed_;
 };
 
 }  // namespace
@@ -170,12 +186,14 @@ std::vector<int> units_from_shares(const std::vector<double>& shares, int total)
     return units;
 }
 
-std::unique_ptr<Balancer> make_balancer(const std::string& name, double smooth_alpha) {
+std::unique_ptr<Balancer> make_balancer(const std::string& name, double smooth_alpha,
+                                        double speed_smoothing) {
     if (name == "none") return std::make_unique<NoBalancing>();
     if (name == "robin-hood") return std::make_unique<RobinHood>();
     if (name == "perfect") return std::make_unique<Perfect>(1.0);
     if (name == "perfect-smooth") return std::make_unique<Perfect>(smooth_alpha);
-    if (name == "cost-predictive" || name == "ours") return std::make_unique<CostPredictive>();
+    if (name == "cost-predictive" || name == "ours")
+        return std::make_unique<CostPredictive>(speed_smoothing);
     return nullptr;
 }
 

@@ -42,9 +42,15 @@ public:
     virtual std::vector<RowRange> assign(const BalanceInput& input) = 0;
 };
 
-// none, robin-hood, perfect, perfect-smooth (alpha), cost-predictive (also "ours"); nullptr
-// for an unknown name.
-std::unique_ptr<Balancer> make_balancer(const std::string& name, double smooth_alpha = 0.25);
+// Ours smooths each tracer's measured speed over frames, s = a m + (1 - a) s: one frame's
+// measurement is noisy, and re-cutting on it made the split swing by a few units a frame in
+// the live farm (docs/balancing.md). 0.35 measured best there; 1 is no smoothing.
+inline constexpr double kDefaultSpeedSmoothing = 0.35;
+
+// none, robin-hood, perfect, perfect-smooth (smooth_alpha on the shares), cost-predictive
+// (also "ours"; speed_smoothing on the speeds); nullptr for an unknown name.
+std::unique_ptr<Balancer> make_balancer(const std::string& name, double smooth_alpha = 0.25,
+                                        double speed_smoothing = kDefaultSpeedSmoothing);
 std::vector<std::string> balancer_names();
 
 int work_units(int height);

@@ -319,7 +319,10 @@ Status check_options(const FarmOptions& o) {
 
 Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop) {
     if (Status s = check_options(options); !s) return s;
-    auto balancer = make_balancer(options.balancer);
+    if (!(options.speed_smoothing > 0.0 && options.speed_smoothing <= 1.0))
+        return make_error(ErrorCode::invalid_argument, "--speed-smoothing {}: must be in (0, 1]",
+                          options.speed_smoothing);
+    auto balancer = make_balancer(options.balancer, 0.25, options.speed_smoothing);
     if (!balancer)
         return make_error(ErrorCode::invalid_argument, "--balancer {}: unknown scheme",
                           options.balancer);

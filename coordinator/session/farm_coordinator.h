@@ -30,6 +30,7 @@ struct FarmOptions {
     std::string tracer_stats_csv;              // one row per tracer and frame
     std::string dump_frames;                   // folder for frame_NNNNNN.pfm (linear float)
     std::string balancer = "cost-predictive";  // coordinator/balance/balancer.h
+    double speed_smoothing = 0.35;             // kDefaultSpeedSmoothing
     std::string record_costs;  // the time of every work unit (record with one tracer)
     std::string stages_csv;    // the frame loop's stages per frame
     // The real-time loop (docs/realtime.md). fixed_spp: no pacing and no workload scaling, every

@@ -30,6 +30,10 @@ int main(int argc, char** argv) {
     app.add_option("--seed", o.sim.seed, "Seed of noise and hiccups")->capture_default_str();
     app.add_option("--noise", o.sim.noise_sigma, "Lognormal sigma of per-frame speed noise")
         ->capture_default_str();
+    app.add_option("--speed-smoothing", o.speed_smoothing,
+                   "ours: weight of the last frame in each tracer's smoothed speed (1: none)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.01, 1.0));
     app.add_option("--hiccup", o.sim.hiccup_p,
                    "Probability that a tracer takes 2x as long in a frame")
         ->capture_default_str();

@@ -13,8 +13,10 @@ namespace {
 
 struct Cell {
     double idle = 0.0, p50 = 0.0, p99 = 0.0;
+    double farm_idle = 0.0;  // as the farm's stats would report it
     std::vector<double> idle_per_frame;
 };
+using Cells = std::map<std::string, std::map<std::string, Cell>>;  // column -> scheme -> cell
 
 double percentile(std::vector<double> v, double q) {
     std::sort(v.begin(), v.end());
@@ -30,7 +32,8 @@ Result<Cell> run_cell(const ReportOptions& o, int tracers, const CostTrace& trac
     if (int(sim.speeds.size()) != tracers)
         return make_error(ErrorCode::invalid_argument, "--speeds{}: {} speeds for {} tracers",
                           tracers, sim.speeds.size(), tracers);
-    auto balancer = coord::make_balancer(scheme == "ours" ? "cost-predictive" : scheme);
+    auto balancer =
+        coord::make_balancer(scheme == "ours" ? "cost-predictive" : scheme, 0.25, o.speed_smoothing);
     if (!balancer)
         return make_error(ErrorCode::invalid_argument, "--schemes: unknown scheme \"{}\"", scheme);
     const auto frames = simulate(*balancer, sim, trace);
@@ -38,6 +41,7 @@ Result<Cell> run_cell(const ReportOptions& o, int tracers, const CostTrace& trac
     std::vector<double> rel;
     for (const FrameResult& f : frames) {
         c.idle += f.idle_pct / double(frames.size());
+        c.farm_idle += f.farm_idle_pct / double(frames.size());
         c.idle_per_frame.push_back(f.idle_pct);
         rel.push_back(f.frame_ms / f.ideal_ms);
     }
@@ -46,8 +50,7 @@ Result<Cell> run_cell(const ReportOptions& o, int tracers, const CostTrace& trac
     return c;
 }
 
-Status write_plot(const ReportOptions& o,
-                  const std::map<std::string, std::map<std::string, Cell>>& cells) {
+Status write_plot(const ReportOptions& o, const Cells& cells) {
     const std::string data = o.plot + ".frames.csv";
     std::ofstream out(data);
     out << "column,scheme,frame,idle_pct\n";
@@ -80,6 +83,35 @@ Status write_plot(const ReportOptions& o,
     return {};
 }
 
+// One block of the table: `title`, then a row per scheme of `value(cell)` per column.
+template <typename Value>
+std::string table_block(const ReportOptions& o, const std::vector<std::string>& columns,
+                        Cells& cells, const std::string& title, int width, Value value) {
+    std::string block = fmt::format("{:<16}", title);
+    for (const auto& c : columns)
+        block += fmt::format("{:>{}}", c, width);
+    block += "\n";
+    for (const std::string& scheme : o.schemes) {
+        block += fmt::format("{:<16}", scheme);
+        for (const auto& c : columns)
+            block += fmt::format("{:>{}}", value(cells[c][scheme]), width);
+        block += "\n";
+    }
+    return block;
+}
+
+std::string format_table(const ReportOptions& o, const std::vector<std::string>& columns,
+                         Cells& cells) {
+    return table_block(o, columns, cells, "mean idle %", 10,
+                       [](const Cell& c) { return fmt::format("{:.1f}", c.idle); }) +
+           "\n" +
+           table_block(o, columns, cells, "p50 / p99 frame", 14,
+                       [](const Cell& c) { return fmt::format("{:.3f}/{:.3f}", c.p50, c.p99); }) +
+           "\n" +
+           table_block(o, columns, cells, "idle % (farm's)", 10,
+                       [](const Cell& c) { return fmt::format("{:.1f}", c.farm_idle); });
+}
+
 }  // namespace
 
 std::vector<std::string> all_schemes() {
@@ -87,14 +119,13 @@ std::vector<std::string> all_schemes() {
 }
 
 Result<std::string> run_report(const ReportOptions& o) {
-    std::map<std::string, std::map<std::string, Cell>>
-        cells;  // column ("2 slow") -> scheme -> cell
+    Cells cells;
     std::vector<std::string> columns;
     std::ofstream csv;
     if (!o.csv.empty()) {
         csv.open(o.csv);
         if (!csv) return make_error(ErrorCode::io_error, "--csv {}: cannot write", o.csv);
-        csv << "tracers,camera,scheme,idle_pct,p50_frame_rel,p99_frame_rel\n";
+        csv << "tracers,camera,scheme,idle_pct,p50_frame_rel,p99_frame_rel,farm_idle_pct\n";
     }
     for (int tracers : o.tracer_counts) {
         if (tracers < 1 || tracers > 64)
@@ -115,32 +146,12 @@ Result<std::string> run_report(const ReportOptions& o) {
                 if (!cell) return cell.error();
                 if (csv.is_open())
                     csv << tracers << ',' << camera << ',' << scheme << ',' << cell->idle << ','
-                        << cell->p50 << ',' << cell->p99 << '\n';
+                        << cell->p50 << ',' << cell->p99 << ',' << cell->farm_idle << '\n';
                 cells[column][scheme] = std::move(*cell);
             }
         }
     }
-    std::string table = fmt::format("{:<16}", "mean idle %");
-    for (const auto& c : columns)
-        table += fmt::format("{:>10}", c);
-    table += "\n";
-    for (const std::string& scheme : o.schemes) {
-        table += fmt::format("{:<16}", scheme);
-        for (const auto& c : columns)
-            table += fmt::format("{:>10.1f}", cells[c][scheme].idle);
-        table += "\n";
-    }
-    table += fmt::format("\n{:<16}", "p50 / p99 frame");
-    for (const auto& c : columns)
-        table += fmt::format("{:>14}", c);
-    table += "\n";
-    for (const std::string& scheme : o.schemes) {
-        table += fmt::format("{:<16}", scheme);
-        for (const auto& c : columns)
-            table += fmt::format(
-                "{:>14}", fmt::format("{:.3f}/{:.3f}", cells[c][scheme].p50, cells[c][scheme].p99));
-        table += "\n";
-    }
+    std::string table = format_table(o, columns, cells);
     if (!o.plot.empty())
         if (Status s = write_plot(o, cells); !s) return s.error();
     return table;

@@ -20,9 +20,10 @@ struct ReportOptions {
     std::string trace;  // overrides the shipped traces
     std::string traces_dir = PATHFARM_BALANCE_TRACES;
     std::string csv, plot;
+    double speed_smoothing = coord::kDefaultSpeedSmoothing;  // ours, as the farm's option
 };
 
-// "ours" is the cost-predictive balancer plus re-issue of a straggler's rows to idle tracers.
+// "ours" is the cost-predictive balancer plus its mid-frame steal (coordinator/balance/steal.h).
 std::vector<std::string> all_schemes();
 // The table as text; writes options.csv and options.plot when set.
 Result<std::string> run_report(const ReportOptions& options);
