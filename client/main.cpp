@@ -13,24 +13,25 @@ namespace {
 std::atomic<bool> g_stop{false};
 void request_stop(int) { g_stop = true; }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    pathfarm::client::ClientOptions o;
+struct CommandLine {
+    pathfarm::client::ClientOptions options;
     std::string connect, secret_file, format = "jpeg";
     bool headless = false;
-    CLI::App app{"pathfarm-client: the thin game client of a pathfarm farm"};
-    app.add_option("--connect", connect, "Coordinator client port, HOST:PORT")->required();
-    app.add_option("--secret-file", secret_file,
+};
+
+void add_options(CLI::App& app, CommandLine& c) {
+    pathfarm::client::ClientOptions& o = c.options;
+    app.add_option("--connect", c.connect, "Coordinator client port, HOST:PORT")->required();
+    app.add_option("--secret-file", c.secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
-    app.add_flag("--headless", headless,
+    app.add_flag("--headless", c.headless,
                  "No window: write frames to --out (default: a window with WASD + mouse look, "
                  "E for action, Esc to quit)");
     app.add_option("--frames", o.frames,
                    "Stop after this many frames (0: until the coordinator closes)")
         ->capture_default_str();
     app.add_option("--out", o.out_dir, "Folder for received frames");
-    app.add_option("--format", format,
+    app.add_option("--format", c.format,
                    "Frame format to request and write: jpeg, png or exr (lossless linear float)")
         ->capture_default_str()
         ->check(CLI::IsMember({"jpeg", "png", "exr"}));
@@ -47,30 +48,40 @@ int main(int argc, char** argv) {
     app.add_option("--script", o.script, "Camera script: lines of FRAME eye_xyz target_xyz");
     app.add_option("--contact-sheet", o.contact_sheet,
                    "PNG with thumbnails of up to 16 evenly spaced frames");
+}
+
+// The options the parser cannot check alone: the endpoint and the secret.
+pathfarm::Status finish_options(CommandLine& c) {
+    pathfarm::client::ClientOptions& o = c.options;
+    o.window = !c.headless;
+    auto endpoint = pathfarm::parse_endpoint("--connect", c.connect);
+    if (!endpoint) return endpoint.error();
+    o.host = endpoint->host;
+    o.port = endpoint->port;
+    o.format = c.format == "exr"   ? pathfarm::client::OutputFormat::exr
+               : c.format == "png" ? pathfarm::client::OutputFormat::png
+                                   : pathfarm::client::OutputFormat::jpeg;
+    auto secret = pathfarm::net::load_secret(c.secret_file);
+    if (!secret) return secret.error();
+    o.secret = *secret;
+    return {};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CommandLine c;
+    CLI::App app{"pathfarm-client: the thin game client of a pathfarm farm"};
+    add_options(app, c);
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-client"))
         return *exit_code;
-    o.window = !headless;
-    const auto colon = connect.rfind(':');
-    const int port = colon == std::string::npos ? 0 : std::atoi(connect.c_str() + colon + 1);
-    if (port <= 0 || port > 65535) {
-        std::fprintf(stderr, "pathfarm-client: --connect %s: expected HOST:PORT\n",
-                     connect.c_str());
+    if (auto s = finish_options(c); !s) {
+        std::fprintf(stderr, "pathfarm-client: %s\n", s.error().message.c_str());
         return 2;
     }
-    o.host = connect.substr(0, colon);
-    o.port = uint16_t(port);
-    o.format = format == "exr"   ? pathfarm::client::OutputFormat::exr
-               : format == "png" ? pathfarm::client::OutputFormat::png
-                                 : pathfarm::client::OutputFormat::jpeg;
-    auto secret = pathfarm::net::load_secret(secret_file);
-    if (!secret) {
-        std::fprintf(stderr, "pathfarm-client: %s\n", secret.error().message.c_str());
-        return 2;
-    }
-    o.secret = *secret;
     std::signal(SIGINT, request_stop);
     std::signal(SIGTERM, request_stop);
-    auto report = pathfarm::client::run_client(o, g_stop);
+    auto report = pathfarm::client::run_client(c.options, g_stop);
     if (!report) {
         std::fprintf(stderr, "pathfarm-client: %s\n", report.error().message.c_str());
         return report.error().code == pathfarm::ErrorCode::invalid_argument ||

@@ -39,16 +39,13 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-tracer"))
         return *exit_code;
-    const auto colon = coordinator.rfind(':');
-    int port = 0;
-    if (colon == std::string::npos || (port = std::atoi(coordinator.c_str() + colon + 1)) <= 0 ||
-        port > 65535) {
-        std::fprintf(stderr, "pathfarm-tracer: --coordinator %s: expected HOST:PORT\n",
-                     coordinator.c_str());
+    auto endpoint = pathfarm::parse_endpoint("--coordinator", coordinator);
+    if (!endpoint) {
+        std::fprintf(stderr, "pathfarm-tracer: %s\n", endpoint.error().message.c_str());
         return 2;
     }
-    o.host = coordinator.substr(0, colon);
-    o.port = uint16_t(port);
+    o.host = endpoint->host;
+    o.port = endpoint->port;
     auto secret = pathfarm::net::load_secret(secret_file);
     if (!secret) {
         std::fprintf(stderr, "pathfarm-tracer: %s\n", secret.error().message.c_str());

@@ -1,5 +1,7 @@
 #include "common/cli/command_line.h"
 
+#include <charconv>
+
 #include <CLI/CLI.hpp>
 
 #include "common/base/log.h"
@@ -18,6 +20,20 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
     }
     init_logging(program, log_level);
     return std::nullopt;
+}
+
+Result<Endpoint> parse_endpoint(std::string_view option, const std::string& text) {
+    const auto colon = text.rfind(':');
+    unsigned port = 0;
+    if (colon != std::string::npos && colon > 0) {
+        const char* first = text.data() + colon + 1;
+        const char* last = text.data() + text.size();
+        const auto [end, ec] = std::from_chars(first, last, port);
+        if (ec == std::errc() && end == last && first != last && port >= 1 && port <= 65535)
+            return Endpoint{text.substr(0, colon), uint16_t(port)};
+    }
+    return make_error(ErrorCode::invalid_argument,
+                      "{} {}: expected HOST:PORT with a port in [1, 65535]", option, text);
 }
 
 }  // namespace pathfarm

@@ -13,12 +13,11 @@
 
 #include "common/net/auth.h"
 #include "common/net/framing.h"
-#include "pathfarm/wire/v1/envelope.pb.h"
+#include "common/net/handshake.h"
 
 namespace pathfarm::net {
 namespace {
 
-namespace pb = ::pathfarm::wire::v1;
 using asio::awaitable;
 using asio::use_awaitable;
 using asio::ip::tcp;
@@ -29,27 +28,21 @@ struct Rejection {  // thrown inside coroutines when a peer broke the protocol
     std::string message;
 };
 
-pb::Role to_wire(PeerRole r) { return r == PeerRole::tracer ? pb::ROLE_TRACER : pb::ROLE_CLIENT; }
-
-std::string serialise(pb::Envelope& e) {
-    e.set_version(kProtocolVersion);
-    return e.SerializeAsString();
+// A handshake envelope of the expected kind; anything else is a protocol violation.
+HandshakeMessage expect(const std::string& bytes, HandshakeMessage::Kind kind, const char* what) {
+    HandshakeMessage m = decode_handshake(bytes);
+    if (m.kind == HandshakeMessage::Kind::invalid) throw Rejection{m.failure, m.message};
+    if (m.kind != kind)
+        throw Rejection{ProtocolError::out_of_order, fmt::format("expected {}", what)};
+    return m;
 }
 
-std::string error_envelope(ProtocolError code, const std::string& message) {
-    pb::Envelope e;
-    e.mutable_error()->set_code(pb::ErrorCode(int(code)));
-    e.mutable_error()->set_message(message);
-    return serialise(e);
-}
-
-pb::Envelope parse_envelope(const std::string& bytes) {
-    pb::Envelope e;
-    if (!e.ParseFromString(bytes)) throw Rejection{ProtocolError::malformed, "malformed envelope"};
-    if (e.version() != kProtocolVersion)
-        throw Rejection{ProtocolError::bad_version, fmt::format("protocol version {} (expected {})",
-                                                                e.version(), kProtocolVersion)};
-    return e;
+// On the dialling side the server may refuse with an Error envelope instead.
+HandshakeMessage expect_reply(const std::string& bytes) {
+    HandshakeMessage m = decode_handshake(bytes);
+    if (m.kind == HandshakeMessage::Kind::error) throw std::runtime_error("refused: " + m.message);
+    if (m.kind == HandshakeMessage::Kind::invalid) throw Rejection{m.failure, m.message};
+    return m;
 }
 
 class AsioSession final : public Session, public std::enable_shared_from_this<AsioSession> {
@@ -205,19 +198,6 @@ private:
     std::string close_reason_;
 };
 
-PeerInfo peer_from_hello(const pb::Hello& h, const std::string& address) {
-    PeerInfo p;
-    p.role = h.role() == pb::ROLE_CLIENT ? PeerRole::client : PeerRole::tracer;
-    p.name = h.name();
-    p.backend = h.capabilities().backend();
-    p.threads = h.capabilities().threads();
-    p.wants_bvh_nodes = h.capabilities().wants_bvh_nodes();
-    for (int c : h.capabilities().codecs())
-        p.codecs.push_back(c);
-    p.address = address;
-    return p;
-}
-
 std::string remote_address(const tcp::socket& s) {
     asio::error_code ec;
     const auto ep = s.remote_endpoint(ec);
@@ -239,14 +219,15 @@ struct NetService::Impl {
                                  std::function<void(std::shared_ptr<Session>)> on_session) {
         std::optional<Rejection> rejection;
         try {
-            const pb::Envelope hello =
-                parse_envelope(co_await s->read_message(config.handshake_timeout));
-            if (!hello.has_hello())
-                throw Rejection{ProtocolError::out_of_order, "expected Hello first"};
+            using Kind = HandshakeMessage::Kind;
+            const HandshakeMessage hello = expect(
+                co_await s->read_message(config.handshake_timeout), Kind::hello, "Hello first");
             PeerInfo& peer = s->mutable_peer();
-            peer = peer_from_hello(hello.hello(), peer.address);
+            const std::string address = peer.address;
+            peer = hello.peer;
             peer.session_id = id;
-            if (hello.hello().client_nonce().size() != kNonceBytes)
+            peer.address = address;
+            if (hello.nonce.size() != kNonceBytes)
                 throw Rejection{ProtocolError::malformed, "bad nonce"};
             if (std::find(config.roles.begin(), config.roles.end(), peer.role) ==
                 config.roles.end())
@@ -254,21 +235,14 @@ struct NetService::Impl {
                     ProtocolError::wrong_role,
                     fmt::format("role {} not served on this port", role_name(peer.role))};
             const std::string server_nonce = make_nonce();
-            pb::Envelope challenge;
-            challenge.mutable_challenge()->set_server_nonce(server_nonce);
-            co_await s->write_now(serialise(challenge));
-            const pb::Envelope proof =
-                parse_envelope(co_await s->read_message(config.handshake_timeout));
-            if (!proof.has_proof())
-                throw Rejection{ProtocolError::out_of_order, "expected AuthProof"};
-            const std::string& cn = hello.hello().client_nonce();
-            if (!macs_equal(proof.proof().mac(),
-                            client_mac(config.secret, role_name(peer.role), cn, server_nonce)))
+            co_await s->write_now(challenge_envelope(server_nonce));
+            const HandshakeMessage proof = expect(
+                co_await s->read_message(config.handshake_timeout), Kind::proof, "AuthProof");
+            if (!macs_equal(proof.mac, client_mac(config.secret, role_name(peer.role), hello.nonce,
+                                                  server_nonce)))
                 throw Rejection{ProtocolError::unauthenticated, "authentication failed"};
-            pb::Envelope welcome;
-            welcome.mutable_welcome()->set_session_id(id);
-            welcome.mutable_welcome()->set_server_mac(server_mac(config.secret, cn, server_nonce));
-            co_await s->write_now(serialise(welcome));
+            co_await s->write_now(
+                welcome_envelope(id, server_mac(config.secret, hello.nonce, server_nonce)));
             spdlog::info("{} \"{}\" connected from {}", role_name(peer.role), peer.name,
                          peer.address);
             on_session(s);  // handlers are set before the reader delivers anything
@@ -323,37 +297,21 @@ struct NetService::Impl {
             server.address = remote_address(socket);
             server.role = config.hello.role;
             s = std::make_shared<AsioSession>(std::move(socket), config.max_message_bytes, server);
+            using Kind = HandshakeMessage::Kind;
             const std::string cn = make_nonce();
-            pb::Envelope hello;
-            auto* h = hello.mutable_hello();
-            h->set_role(to_wire(config.hello.role));
-            h->set_name(config.hello.name);
-            h->mutable_capabilities()->set_backend(config.hello.backend);
-            h->mutable_capabilities()->set_threads(config.hello.threads);
-            h->mutable_capabilities()->set_wants_bvh_nodes(config.hello.wants_bvh_nodes);
-            for (int c : config.hello.codecs)
-                h->mutable_capabilities()->add_codecs(pb::FrameCodec(c));
-            h->set_client_nonce(cn);
-            co_await s->write_now(serialise(hello));
-            const pb::Envelope challenge =
-                parse_envelope(co_await s->read_message(config.handshake_timeout));
-            if (challenge.has_error())
-                throw std::runtime_error("refused: " + challenge.error().message());
-            if (!challenge.has_challenge())
+            co_await s->write_now(hello_envelope(config.hello, cn));
+            const HandshakeMessage challenge =
+                expect_reply(co_await s->read_message(config.handshake_timeout));
+            if (challenge.kind != Kind::challenge)
                 throw std::runtime_error("server did not send a challenge");
-            pb::Envelope proof;
-            proof.mutable_proof()->set_mac(client_mac(config.secret, role_name(config.hello.role),
-                                                      cn, challenge.challenge().server_nonce()));
-            co_await s->write_now(serialise(proof));
-            const pb::Envelope welcome =
-                parse_envelope(co_await s->read_message(config.handshake_timeout));
-            if (welcome.has_error())
-                throw std::runtime_error("refused: " + welcome.error().message());
-            if (!welcome.has_welcome() ||
-                !macs_equal(welcome.welcome().server_mac(),
-                            server_mac(config.secret, cn, challenge.challenge().server_nonce())))
+            co_await s->write_now(proof_envelope(
+                client_mac(config.secret, role_name(config.hello.role), cn, challenge.nonce)));
+            const HandshakeMessage welcome =
+                expect_reply(co_await s->read_message(config.handshake_timeout));
+            if (welcome.kind != Kind::welcome ||
+                !macs_equal(welcome.mac, server_mac(config.secret, cn, challenge.nonce)))
                 throw std::runtime_error("the server failed to authenticate (wrong secret?)");
-            s->mutable_peer().session_id = welcome.welcome().session_id();
+            s->mutable_peer().session_id = welcome.session_id;
             s->on_message = config.on_message;
             s->on_closed = config.on_closed;
             s->start();

@@ -3,7 +3,7 @@
 // challenge-response both ways) and only then becomes a Session that carries serialised
 // Envelopes. A peer that sends something malformed, oversized, out of order or
 // unauthenticated gets an Error envelope and is disconnected; nothing else is affected.
-// Asio and protobuf stay inside session.cpp.
+// Asio stays inside session.cpp, protobuf inside handshake.cpp.
 #pragma once
 
 #include <chrono>

@@ -9,16 +9,29 @@
 #include "common/cli/command_line.h"
 #include "tools/balance-sim/sim_report.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+struct CommandLine {
     pathfarm::sim::ReportOptions o;
     std::string tracers = "2,3", cameras = "slow,fast", schemes = "all";
-    CLI::App app{"pathfarm-balance-sim: simulate row balancing schemes on cost traces"};
-    app.add_option("--tracers", tracers, "Tracer counts to simulate, comma separated")
+};
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        out.push_back(item);
+    return out;
+}
+
+void add_options(CLI::App& app, CommandLine& c) {
+    pathfarm::sim::ReportOptions& o = c.o;
+    app.add_option("--tracers", c.tracers, "Tracer counts to simulate, comma separated")
         ->capture_default_str();
-    app.add_option("--camera", cameras, "Camera paths: slow, fast (the shipped recorded traces)")
+    app.add_option("--camera", c.cameras, "Camera paths: slow, fast (the shipped recorded traces)")
         ->capture_default_str();
     app.add_option("--frames", o.sim.frames, "Frames per run")->capture_default_str();
-    app.add_option("--schemes", schemes,
+    app.add_option("--schemes", c.schemes,
                    "all, or a comma-separated list of none,robin-hood,perfect,perfect-smooth,ours")
         ->capture_default_str();
     app.add_option(
@@ -47,21 +60,36 @@ int main(int argc, char** argv) {
     app.add_option("--csv", o.csv,
                    "CSV: tracers,camera,scheme,idle_pct,p50_frame_rel,p99_frame_rel");
     app.add_option("--plot", o.plot, "PNG: idle % per frame for each scheme");
+}
+
+pathfarm::Status finish_options(CommandLine& c) {
+    c.o.tracer_counts.clear();
+    for (const std::string& t : split(c.tracers)) {
+        const int n = std::atoi(t.c_str());
+        if (n < 1 || std::to_string(n) != t)
+            return pathfarm::make_error(pathfarm::ErrorCode::invalid_argument,
+                                        "--tracers {}: \"{}\" is not a tracer count", c.tracers, t);
+        c.o.tracer_counts.push_back(n);
+    }
+    c.o.cameras = split(c.cameras);
+    c.o.schemes = c.schemes == "all" ? pathfarm::sim::all_schemes() : split(c.schemes);
+    return {};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CommandLine c;
+    CLI::App app{"pathfarm-balance-sim: simulate row balancing schemes on cost traces"};
+    add_options(app, c);
     if (auto exit_code =
             pathfarm::parse_command_line(app, argc, argv, "pathfarm-balance-sim", "warn"))
         return *exit_code;
-    auto split = [](const std::string& s) {
-        std::vector<std::string> out;
-        std::stringstream ss(s);
-        for (std::string item; std::getline(ss, item, ',');)
-            out.push_back(item);
-        return out;
-    };
-    o.tracer_counts.clear();
-    for (const std::string& t : split(tracers))
-        o.tracer_counts.push_back(std::atoi(t.c_str()));
-    o.cameras = split(cameras);
-    o.schemes = schemes == "all" ? pathfarm::sim::all_schemes() : split(schemes);
+    if (auto s = finish_options(c); !s) {
+        std::fprintf(stderr, "pathfarm-balance-sim: %s\n", s.error().message.c_str());
+        return 2;
+    }
+    const pathfarm::sim::ReportOptions& o = c.o;
     auto report = pathfarm::sim::run_report(o);
     if (!report) {
         std::fprintf(stderr, "pathfarm-balance-sim: %s\n", report.error().message.c_str());

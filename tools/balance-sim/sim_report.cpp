@@ -32,8 +32,8 @@ Result<Cell> run_cell(const ReportOptions& o, int tracers, const CostTrace& trac
     if (int(sim.speeds.size()) != tracers)
         return make_error(ErrorCode::invalid_argument, "--speeds{}: {} speeds for {} tracers",
                           tracers, sim.speeds.size(), tracers);
-    auto balancer =
-        coord::make_balancer(scheme == "ours" ? "cost-predictive" : scheme, 0.25, o.speed_smoothing);
+    auto balancer = coord::make_balancer(scheme == "ours" ? "cost-predictive" : scheme, 0.25,
+                                         o.speed_smoothing);
     if (!balancer)
         return make_error(ErrorCode::invalid_argument, "--schemes: unknown scheme \"{}\"", scheme);
     const auto frames = simulate(*balancer, sim, trace);
@@ -107,9 +107,9 @@ std::string format_table(const ReportOptions& o, const std::vector<std::string>&
            "\n" +
            table_block(o, columns, cells, "p50 / p99 frame", 14,
                        [](const Cell& c) { return fmt::format("{:.3f}/{:.3f}", c.p50, c.p99); }) +
-           "\n" +
-           table_block(o, columns, cells, "idle % (farm's)", 10,
-                       [](const Cell& c) { return fmt::format("{:.1f}", c.farm_idle); });
+           "\n" + table_block(o, columns, cells, "idle % (farm's)", 10, [](const Cell& c) {
+               return fmt::format("{:.1f}", c.farm_idle);
+           });
 }
 
 }  // namespace

@@ -13,27 +13,18 @@ namespace {
 
 pathfarm::Vec3 to_vec3(const std::vector<float>& v) { return {v[0], v[1], v[2]}; }
 
-void add_camera_options(CLI::App& app, pathfarm::tools::RenderToolOptions& o,
-                        std::vector<float>& look_from, std::vector<float>& look_at,
-                        std::vector<float>& up) {
-    app.add_option("--camera", o.camera,
-                   "Camera index (-1: the scene's first camera or a framing of its bounds)")
-        ->capture_default_str();
-    app.add_option("--look-from", look_from, "Camera position x y z (overrides scene cameras)")
-        ->expected(3);
-    app.add_option("--look-at", look_at, "Point the --look-from camera looks at")->expected(3);
-    app.add_option("--up", up, "Up vector of the --look-from camera (default 0 1 0)")->expected(3);
-    app.add_option("--fov", o.fov_degrees, "Vertical field of view of --look-from, degrees")
-        ->capture_default_str();
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
+// Flags parsed into strings and vectors first, converted by finish_options.
+struct CommandLine {
     pathfarm::tools::RenderToolOptions o;
-    std::string strategy = "mis";
+    std::string strategy = "mis", kernel = "specialised";
     std::vector<float> look_from, look_at, up;
-    CLI::App app{"pathfarm-render: render a scene in one process (scene, integrator, image)"};
+    bool no_light_culling = false;
+    double time = 0.0;
+    CLI::Option* time_option = nullptr;
+};
+
+void add_image_options(CLI::App& app, CommandLine& c) {
+    pathfarm::tools::RenderToolOptions& o = c.o;
     app.add_option("--scene", o.scene,
                    "Scene file (.gltf .glb .obj[.gz] .ply[.gz]) or builtin:cornell|default")
         ->capture_default_str();
@@ -49,44 +40,72 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--frame", o.frame, "Frame index (enters the random numbers)")
         ->capture_default_str();
-    add_camera_options(app, o, look_from, look_at, up);
-    pathfarm::tracer::add_backend_options(app, o.backend, o.threads, o.cl_platform, o.cl_device);
-    app.add_option("--max-depth", o.max_depth, "Maximum number of bounces")->capture_default_str();
-    app.add_option("--strategy", strategy,
-                   "Direct light: mis, light (light sampling only) or bsdf (BSDF sampling only)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"mis", "light", "bsdf"}));
-    std::string kernel = "specialised";
-    app.add_option("--kernel", kernel,
-                   "Path-tracing loop: specialised (for the scene's features) or generic")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"specialised", "generic"}));
-    bool no_light_culling = false;
-    app.add_flag("--no-light-culling", no_light_culling,
-                 "Also sample emitters that a closed surface separates from the camera");
-    double time = 0.0;
-    auto* time_option =
-        app.add_option("--time", time, "Animated scenes: time of the clip's own timeline, seconds");
-    app.add_option("--clip", o.clip, "Animation clip by name or index (default: the first)");
     app.add_option("--reference", o.reference,
                    "Reference image of the same size: also print rmse= and rel_mse=");
     app.add_option("--exposure", o.exposure, "Exposure multiplier for PNG output")
         ->capture_default_str();
-    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-render"))
-        return *exit_code;
+}
+
+void add_camera_options(CLI::App& app, CommandLine& c) {
+    app.add_option("--camera", c.o.camera,
+                   "Camera index (-1: the scene's first camera or a framing of its bounds)")
+        ->capture_default_str();
+    app.add_option("--look-from", c.look_from, "Camera position x y z (overrides scene cameras)")
+        ->expected(3);
+    app.add_option("--look-at", c.look_at, "Point the --look-from camera looks at")->expected(3);
+    app.add_option("--up", c.up, "Up vector of the --look-from camera (default 0 1 0)")
+        ->expected(3);
+    app.add_option("--fov", c.o.fov_degrees, "Vertical field of view of --look-from, degrees")
+        ->capture_default_str();
+    c.time_option = app.add_option("--time", c.time,
+                                   "Animated scenes: time of the clip's own timeline, seconds");
+    app.add_option("--clip", c.o.clip, "Animation clip by name or index (default: the first)");
+}
+
+void add_integrator_options(CLI::App& app, CommandLine& c) {
+    app.add_option("--max-depth", c.o.max_depth, "Maximum number of bounces")
+        ->capture_default_str();
+    app.add_option("--strategy", c.strategy,
+                   "Direct light: mis, light (light sampling only) or bsdf (BSDF sampling only)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"mis", "light", "bsdf"}));
+    app.add_option("--kernel", c.kernel,
+                   "Path-tracing loop: specialised (for the scene's features) or generic")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"specialised", "generic"}));
+    app.add_flag("--no-light-culling", c.no_light_culling,
+                 "Also sample emitters that a closed surface separates from the camera");
+}
+
+pathfarm::tools::RenderToolOptions finish_options(CommandLine& c) {
+    pathfarm::tools::RenderToolOptions o = c.o;
     const std::map<std::string, pathfarm::LightStrategy> strategies{
         {"mis", pathfarm::LightStrategy::mis},
         {"light", pathfarm::LightStrategy::light_only},
         {"bsdf", pathfarm::LightStrategy::bsdf_only}};
-    o.strategy = strategies.at(strategy);
-    o.specialise = kernel == "specialised";
-    o.cull_sealed_lights = !no_light_culling;
-    if (time_option->count() > 0) o.time = time;
-    if (!look_from.empty()) o.look_from = to_vec3(look_from);
-    if (!look_at.empty()) o.look_at = to_vec3(look_at);
-    if (!up.empty()) o.up = to_vec3(up);
+    o.strategy = strategies.at(c.strategy);
+    o.specialise = c.kernel == "specialised";
+    o.cull_sealed_lights = !c.no_light_culling;
+    if (c.time_option->count() > 0) o.time = c.time;
+    if (!c.look_from.empty()) o.look_from = to_vec3(c.look_from);
+    if (!c.look_at.empty()) o.look_at = to_vec3(c.look_at);
+    if (!c.up.empty()) o.up = to_vec3(c.up);
+    return o;
+}
 
-    const auto summary = pathfarm::tools::run_render(o);
+}  // namespace
+
+int main(int argc, char** argv) {
+    CommandLine c;
+    CLI::App app{"pathfarm-render: render a scene in one process (scene, integrator, image)"};
+    add_image_options(app, c);
+    add_camera_options(app, c);
+    pathfarm::tracer::add_backend_options(app, c.o.backend, c.o.threads, c.o.cl_platform,
+                                          c.o.cl_device);
+    add_integrator_options(app, c);
+    if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-render"))
+        return *exit_code;
+    const auto summary = pathfarm::tools::run_render(finish_options(c));
     if (!summary) {
         std::fprintf(stderr, "pathfarm-render: %s\n", summary.error().message.c_str());
         return summary.error().code == pathfarm::ErrorCode::invalid_argument ? 2 : 1;

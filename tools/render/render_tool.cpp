@@ -75,12 +75,8 @@ void accumulate(FloatImage& mean, const FloatImage& pass, int done, int pass_spp
         mean.rgb[i] = float(double(mean.rgb[i]) + (double(pass.rgb[i]) - mean.rgb[i]) * w);
 }
 
-}  // namespace
-
-Result<RenderSummary> run_render(const RenderToolOptions& o) {
-    if (Status s = check_options(o); !s) return s.error();
-    auto kind = tracer::parse_backend_kind(o.backend);
-    if (!kind) return kind.error();
+// Loads the scene and poses it (pose above).
+Result<SceneModel> load_posed_scene(const RenderToolOptions& o) {
     const Timer load_timer;
     auto scene = load_scene(o.scene);
     if (!scene) return scene.error();
@@ -92,6 +88,81 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     spdlog::debug("{}: bounds ({:.3g}, {:.3g}, {:.3g}) to ({:.3g}, {:.3g}, {:.3g})", o.scene,
                   bounds.lower.x, bounds.lower.y, bounds.lower.z, bounds.upper.x, bounds.upper.y,
                   bounds.upper.z);
+    return scene;
+}
+
+class ProgressLog {
+public:
+    // At most one line every two seconds.
+    void operator()(const std::string& what) {
+        if (timer_.seconds() - last_ < 2.0) return;
+        last_ = timer_.seconds();
+        spdlog::info("progress: {} in {:.1f} s", what, last_);
+    }
+
+private:
+    Timer timer_;
+    double last_ = 0.0;
+};
+
+// Time budget: passes that double in size; sample indices continue across passes.
+Status render_for_seconds(tracer::RenderBackend& backend, tracer::RenderJob job, double seconds,
+                          FloatImage& image, RenderSummary& summary, SampleCounters& counters) {
+    FloatImage pass(image.width, image.height);
+    ProgressLog progress;
+    const Timer timer;
+    for (int pass_spp = 1; timer.seconds() < seconds; pass_spp *= 2) {
+        job.frame.first_sample = summary.spp;
+        job.frame.spp = pass_spp;
+        auto stats = backend.render_rows(job, pass.rgb.data());
+        if (!stats) return stats.error();
+        accumulate(image, pass, summary.spp, job.frame.spp);
+        summary.spp += job.frame.spp;
+        counters.add(stats->counters);
+        progress(fmt::format("{} spp", summary.spp));
+    }
+    return {};
+}
+
+// Fixed spp: all samples of a band of rows at once, so the image is bit for bit the one any
+// farm split renders (docs/determinism.md).
+Status render_spp(tracer::RenderBackend& backend, tracer::RenderJob job, int spp, FloatImage& image,
+                  RenderSummary& summary, SampleCounters& counters) {
+    ProgressLog progress;
+    job.frame.spp = spp;
+    for (int y = 0; y < image.height; y += kProgressBandRows) {
+        job.y0 = y;
+        job.y1 = std::min(image.height, y + kProgressBandRows);
+        auto stats = backend.render_rows(job, image.row(y));
+        if (!stats) return stats.error();
+        counters.add(stats->counters);
+        progress(fmt::format("{} of {} rows", job.y1, image.height));
+    }
+    summary.spp = spp;
+    return {};
+}
+
+Status compare_with_reference(const std::string& path, const FloatImage& image,
+                              RenderSummary& summary) {
+    auto ref = read_image(path);
+    if (!ref) return ref.error();
+    if (ref->width != image.width || ref->height != image.height)
+        return make_error(ErrorCode::invalid_argument,
+                          "--reference {}: {}x{} image, render is {}x{}", path, ref->width,
+                          ref->height, image.width, image.height);
+    summary.rmse = rmse(image, *ref);
+    summary.relative_mse = relative_mse(image, *ref);
+    return {};
+}
+
+}  // namespace
+
+Result<RenderSummary> run_render(const RenderToolOptions& o) {
+    if (Status s = check_options(o); !s) return s.error();
+    auto kind = tracer::parse_backend_kind(o.backend);
+    if (!kind) return kind.error();
+    auto scene = load_posed_scene(o);
+    if (!scene) return scene.error();
     auto camera = pick_camera(*scene, o, float(o.width) / float(o.height));
     if (!camera) return camera.error();
     *camera = recentre_on_camera(*scene, *camera);  // precision where the pixels are
@@ -108,58 +179,22 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     job.integrator.cull_sealed_lights = o.cull_sealed_lights;
     job.y0 = 0;
     job.y1 = o.height;
-    FloatImage image(o.width, o.height), pass(o.width, o.height);
+    FloatImage image(o.width, o.height);
     RenderSummary summary;
     SampleCounters counters;
     const Timer timer;
-    double last_progress = 0.0;
-    const auto progress = [&](const std::string& what) {
-        if (timer.seconds() - last_progress < 2.0) return;
-        last_progress = timer.seconds();
-        spdlog::info("progress: {} in {:.1f} s", what, last_progress);
-    };
-    if (o.seconds > 0.0) {
-        // Time budget: passes that double in size; sample indices continue across passes.
-        for (int pass_spp = 1; timer.seconds() < o.seconds; pass_spp *= 2) {
-            job.frame.first_sample = summary.spp;
-            job.frame.spp = pass_spp;
-            auto stats = (*backend)->render_rows(job, pass.rgb.data());
-            if (!stats) return stats.error();
-            accumulate(image, pass, summary.spp, job.frame.spp);
-            summary.spp += job.frame.spp;
-            counters.add(stats->counters);
-            progress(fmt::format("{} spp", summary.spp));
-        }
-    } else {
-        // Fixed spp: all samples of a band of rows at once, so the image is bit for bit the
-        // one any farm split renders (docs/determinism.md).
-        job.frame.spp = o.spp;
-        for (int y = 0; y < o.height; y += kProgressBandRows) {
-            job.y0 = y;
-            job.y1 = std::min(o.height, y + kProgressBandRows);
-            auto stats = (*backend)->render_rows(job, image.row(y));
-            if (!stats) return stats.error();
-            counters.add(stats->counters);
-            progress(fmt::format("{} of {} rows", job.y1, o.height));
-        }
-        summary.spp = o.spp;
-    }
+    const Status rendered =
+        o.seconds > 0.0 ? render_for_seconds(**backend, job, o.seconds, image, summary, counters)
+                        : render_spp(**backend, job, o.spp, image, summary, counters);
+    if (!rendered) return rendered.error();
     summary.seconds = timer.seconds();
     summary.samples_per_second = double(counters.camera_samples) / summary.seconds;
     summary.rays_per_second = double(counters.rays) / summary.seconds;
     summary.nonfinite_samples = counters.nonfinite_samples;
     if (counters.nonfinite_samples > 0)
         spdlog::warn("{} samples were NaN/Inf and were discarded", counters.nonfinite_samples);
-    if (!o.reference.empty()) {
-        auto ref = read_image(o.reference);
-        if (!ref) return ref.error();
-        if (ref->width != image.width || ref->height != image.height)
-            return make_error(ErrorCode::invalid_argument,
-                              "--reference {}: {}x{} image, render is {}x{}", o.reference,
-                              ref->width, ref->height, image.width, image.height);
-        summary.rmse = rmse(image, *ref);
-        summary.relative_mse = relative_mse(image, *ref);
-    }
+    if (!o.reference.empty())
+        if (Status s = compare_with_reference(o.reference, image, summary); !s) return s.error();
     if (Status s = write_image(o.out, image, o.exposure); !s) return s.error();
     spdlog::info("wrote {} ({}x{}, {} spp)", o.out, o.width, o.height, summary.spp);
     return summary;

@@ -1,193 +1,16 @@
-// OpenClBackend: device selection, the per-process program cache, buffers updated by diff,
-// and the row-range launch.
+// OpenClBackend: scene buffers updated by diff, light culling, and the row-range launch.
 #include "tracer-node/opencl/opencl_backend.h"
 
-#include <cstring>
-#include <mutex>
-
 #include <spdlog/spdlog.h>
-#include <CL/opencl.hpp>
 
 #include "common/base/timer.h"
 #include "common/math/transform.h"
 #include "common/render/sealed_emitters.h"
-#include "tracer-node/opencl/cl_errors.h"
+#include "tracer-node/opencl/cl_device.h"
+#include "tracer-node/opencl/device_array.h"
 #include "tracer-node/opencl/device_scene.h"
 
 namespace pathfarm::tracer {
-
-extern const char* const kOpenClKernelSource;  // generated from kernels/ at build time
-
-namespace {
-
-Error cl_failure(const std::string& what, cl_int code) {
-    return Error{ErrorCode::backend_error,
-                 fmt::format("opencl backend: {}: {}", what, cl_error_name(code))};
-}
-
-// A device with its context and the programs built for it, shared by every backend of the
-// process that uses the same device: kernels compile once per process and variant.
-struct SharedDevice {
-    cl::Device device;
-    cl::Context context;
-    std::string name;
-    std::mutex mutex;
-    std::map<uint32_t, cl::Program> programs;  // by feature variant
-
-    Result<cl::Program> program(uint32_t features) {
-        const std::lock_guard lock(mutex);
-        if (auto it = programs.find(features); it != programs.end()) return it->second;
-        const Timer timer;
-        cl_int err = CL_SUCCESS;
-        cl::Program program(context, std::string(kOpenClKernelSource), false, &err);
-        if (err != CL_SUCCESS) return cl_failure("creating the program", err);
-        const std::string options = fmt::format("-cl-std=CL1.2 -DPF_FEATURES={}u", features);
-        err = program.build(std::vector<cl::Device>{device}, options.c_str());
-        if (err != CL_SUCCESS) {
-            std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
-            spdlog::error("OpenCL build log:\n{}", log);
-            if (const auto nl = log.find('\n'); nl != std::string::npos) log.resize(nl);
-            return Error{ErrorCode::backend_error,
-                         fmt::format("opencl backend: building the kernels for {}: {}: {}", name,
-                                     cl_error_name(err), log)};
-        }
-        spdlog::info("OpenCL kernels (features {}) built for {} in {:.2f} s", features, name,
-                     timer.seconds());
-        programs.emplace(features, program);
-        return program;
-    }
-};
-
-Result<std::vector<cl::Platform>> platforms() {
-    std::vector<cl::Platform> list;
-    const cl_int err = cl::Platform::get(&list);
-    if (err == CL_PLATFORM_NOT_FOUND_KHR || (err == CL_SUCCESS && list.empty()))
-        return make_error(ErrorCode::unsupported,
-                          "opencl backend: no OpenCL platform found (install an OpenCL driver, "
-                          "e.g. apt-get install pocl-opencl-icd)");
-    if (err != CL_SUCCESS) return cl_failure("listing platforms", err);
-    return list;
-}
-
-Result<std::shared_ptr<SharedDevice>> open_shared_device(const BackendOptions& o) {
-    static std::mutex mutex;
-    static std::map<std::tuple<int, int, cl_uint>, std::shared_ptr<SharedDevice>> devices;
-    const std::lock_guard lock(mutex);
-    auto list = platforms();
-    if (!list) return list.error();
-    if (o.cl_platform < 0 || std::size_t(o.cl_platform) >= list->size())
-        return make_error(ErrorCode::invalid_argument,
-                          "--cl-platform {}: out of range ({} OpenCL platform(s))", o.cl_platform,
-                          list->size());
-    const cl::Platform& platform = (*list)[std::size_t(o.cl_platform)];
-    std::vector<cl::Device> found;
-    cl_int err = platform.getDevices(CL_DEVICE_TYPE_ALL, &found);
-    if (err != CL_SUCCESS && err != CL_DEVICE_NOT_FOUND) return cl_failure("listing devices", err);
-    if (o.cl_device < 0 || std::size_t(o.cl_device) >= found.size())
-        return make_error(ErrorCode::invalid_argument,
-                          "--cl-device {}: out of range (platform {} has {} device(s))",
-                          o.cl_device, o.cl_platform, found.size());
-    const cl::Device& device = found[std::size_t(o.cl_device)];
-    const cl_uint units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
-    const cl_uint wanted = o.threads > 0 && cl_uint(o.threads) < units ? cl_uint(o.threads) : 0;
-    const auto key = std::make_tuple(o.cl_platform, o.cl_device, wanted);
-    if (auto it = devices.find(key); it != devices.end()) return it->second;
-
-    auto shared = std::make_shared<SharedDevice>();
-    shared->device = device;
-    shared->name = shared->device.getInfo<CL_DEVICE_NAME>();
-    // --threads: a sub-device with that many compute units (device fission), where supported.
-    if (wanted > 0) {
-        const cl_device_partition_property props[] = {CL_DEVICE_PARTITION_EQUALLY,
-                                                      cl_device_partition_property(wanted), 0};
-        std::vector<cl::Device> sub;
-        if (shared->device.createSubDevices(props, &sub) == CL_SUCCESS && !sub.empty())
-            shared->device = sub.front();
-        else
-            spdlog::warn("opencl backend: {} cannot be split into {} compute units; using all {}",
-                         shared->name, o.threads, units);
-    }
-    shared->context = cl::Context(shared->device, nullptr, nullptr, nullptr, &err);
-    if (err != CL_SUCCESS) return cl_failure("creating a context on " + shared->name, err);
-    devices.emplace(key, shared);
-    return shared;
-}
-
-// A device buffer that mirrors a host array. assign() writes only the elements that differ
-// from what the device holds (runs of changed elements), so a commit that moves one instance
-// uploads that instance's record, not the scene.
-class DeviceArray {
-public:
-    // Returns the number of bytes written. The write is asynchronous: mirror_ stays untouched
-    // until the next assign, after the queue finished.
-    Result<std::size_t> assign(const cl::Context& context, cl::CommandQueue& queue,
-                               const void* data, std::size_t size, std::size_t element) {
-        const auto* bytes = static_cast<const unsigned char*>(data);
-        if (size > capacity_ || !buffer_()) {
-            const std::size_t capacity =
-                std::max<std::size_t>({size, capacity_ + capacity_ / 2, 64});
-            cl_int err = CL_SUCCESS;
-            cl::Buffer buffer(context, CL_MEM_READ_ONLY, capacity, nullptr, &err);
-            if (err != CL_SUCCESS)
-                return cl_failure(fmt::format("allocating {} bytes", capacity), err);
-            buffer_ = buffer;
-            capacity_ = capacity;
-            mirror_.assign(bytes, bytes + size);
-            if (size > 0) {
-                err = queue.enqueueWriteBuffer(buffer_, CL_FALSE, 0, size, mirror_.data());
-                if (err != CL_SUCCESS) return cl_failure("uploading", err);
-            }
-            return size;
-        }
-        std::size_t written = 0;
-        const std::size_t old_size = mirror_.size();
-        mirror_.resize(size);
-        std::size_t run_start = 0;
-        bool in_run = false;
-        auto flush = [&](std::size_t end) -> cl_int {
-            in_run = false;
-            written += end - run_start;
-            return queue.enqueueWriteBuffer(buffer_, CL_FALSE, run_start, end - run_start,
-                                            mirror_.data() + run_start);
-        };
-        // Whole blocks that match are skipped with one memcmp; only differing blocks are
-        // compared element by element.
-        const std::size_t block = element * std::max<std::size_t>(1, 4096 / element);
-        for (std::size_t off = 0; off < size; off += element) {
-            if (off % block == 0 && off + block <= std::min(size, old_size) &&
-                std::memcmp(mirror_.data() + off, bytes + off, block) == 0) {
-                if (in_run)
-                    if (cl_int err = flush(off); err != CL_SUCCESS)
-                        return cl_failure("uploading", err);
-                off += block - element;
-                continue;
-            }
-            const std::size_t n = std::min(element, size - off);
-            const bool changed =
-                off + n > old_size || std::memcmp(mirror_.data() + off, bytes + off, n) != 0;
-            if (changed) {
-                std::memcpy(mirror_.data() + off, bytes + off, n);
-                if (!in_run) {
-                    in_run = true;
-                    run_start = off;
-                }
-            } else if (in_run) {
-                if (cl_int err = flush(off); err != CL_SUCCESS) return cl_failure("uploading", err);
-            }
-        }
-        if (in_run)
-            if (cl_int err = flush(size); err != CL_SUCCESS) return cl_failure("uploading", err);
-        return written;
-    }
-    const cl::Buffer& buffer() const { return buffer_; }
-
-private:
-    cl::Buffer buffer_;
-    std::size_t capacity_ = 0;
-    std::vector<unsigned char> mirror_;
-};
-
-}  // namespace
 
 std::size_t UploadStats::total() const {
     std::size_t t = 0;
@@ -238,6 +61,10 @@ struct OpenClBackend::Impl {
         upload.bytes[name] = *n;
         return {};
     }
+
+    Status reserve_output(std::size_t pixels);
+    Status set_arguments(cl::Kernel& k, const PfFrameParams& fp);
+    Result<SampleCounters> launch(cl::Kernel& k, int width, std::size_t rows, float* pixels_out);
 };
 
 OpenClBackend::OpenClBackend(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -282,35 +109,10 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     return {};
 }
 
-Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out) {
-    Impl& d = *impl_;
-    const FrameSpec& f = job.frame;
-    if (!d.has_scene)
-        return make_error(ErrorCode::invalid_argument, "opencl backend: render before set_scene");
-    if (f.width <= 0 || f.height <= 0 || job.y0 < 0 || job.y1 > f.height || job.y0 > job.y1)
-        return make_error(ErrorCode::invalid_argument,
-                          "opencl backend: rows [{}, {}) outside a {}x{} frame", job.y0, job.y1,
-                          f.width, f.height);
-    RenderStats stats;
-    if (job.y0 == job.y1) return stats;
-    const Timer timer;
-    if (Status s = update_lights(job); !s) return s.error();
-    const uint32_t variant = job.integrator.specialise ? d.features : uint32_t(kAllFeatures);
-    auto kernel = d.kernel(variant);
-    if (!kernel) return kernel.error();
+namespace {
 
-    const std::size_t rows = std::size_t(job.y1 - job.y0);
-    const std::size_t pixels = rows * std::size_t(f.width);
-    cl_int err = CL_SUCCESS;
-    if (pixels > d.out_capacity) {
-        d.out = cl::Buffer(d.shared->context, CL_MEM_WRITE_ONLY, pixels * 3 * sizeof(float),
-                           nullptr, &err);
-        if (err != CL_SUCCESS) return cl_failure("allocating the output", err);
-        d.counters = cl::Buffer(d.shared->context, CL_MEM_WRITE_ONLY, pixels * 2 * sizeof(uint32_t),
-                                nullptr, &err);
-        if (err != CL_SUCCESS) return cl_failure("allocating the counters", err);
-        d.out_capacity = pixels;
-    }
+PfFrameParams frame_params(const RenderJob& job) {
+    const FrameSpec& f = job.frame;
     PfFrameParams fp{};
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 4; ++c)
@@ -328,37 +130,87 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
     fp.strategy = int(job.integrator.strategy);
     fp.rr_start_depth = job.integrator.rr_start_depth;
     fp.rr_scale = job.integrator.rr_scale;
+    return fp;
+}
 
-    cl::Kernel& k = *kernel;
+}  // namespace
+
+// The output and counter buffers grow to the largest row range seen.
+Status OpenClBackend::Impl::reserve_output(std::size_t pixels) {
+    if (pixels <= out_capacity) return {};
+    cl_int err = CL_SUCCESS;
+    out = cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * 3 * sizeof(float), nullptr, &err);
+    if (err != CL_SUCCESS) return cl_failure("allocating the output", err);
+    counters = cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * 2 * sizeof(uint32_t),
+                          nullptr, &err);
+    if (err != CL_SUCCESS) return cl_failure("allocating the counters", err);
+    out_capacity = pixels;
+    return {};
+}
+
+Status OpenClBackend::Impl::set_arguments(cl::Kernel& k, const PfFrameParams& fp) {
     cl_uint arg = 0;
-    err = k.setArg(arg++, sizeof fp, &fp);
-#define PF_ARRAY_ARG(name, type) &d.name,
-    for (const DeviceArray* a : {PF_SCENE_ARRAYS(PF_ARRAY_ARG) & d.globals})
+    cl_int err = k.setArg(arg++, sizeof fp, &fp);
+#define PF_ARRAY_ARG(name, type) &name,
+    for (const DeviceArray* a : {PF_SCENE_ARRAYS(PF_ARRAY_ARG) & globals})
         if (err == CL_SUCCESS) err = k.setArg(arg++, a->buffer());
 #undef PF_ARRAY_ARG
-    if (err == CL_SUCCESS) err = k.setArg(arg++, d.out);
-    if (err == CL_SUCCESS) err = k.setArg(arg++, d.counters);
+    if (err == CL_SUCCESS) err = k.setArg(arg++, out);
+    if (err == CL_SUCCESS) err = k.setArg(arg++, counters);
     if (err != CL_SUCCESS) return cl_failure("setting kernel arguments", err);
+    return {};
+}
 
+// Launches the kernel over width x rows pixels and reads back the colours and counters.
+Result<SampleCounters> OpenClBackend::Impl::launch(cl::Kernel& k, int width, std::size_t rows,
+                                                   float* pixels_out) {
     // A fixed work-group size: PoCL compiles a work-group function per local size, so leaving
     // the choice to the driver compiled again (0.9 s) for every new image width, a stall each
     // time workload scaling changes the resolution; 8x1 measured as fast as the driver's choice.
     constexpr std::size_t kGroupWidth = 8;
-    const std::size_t gx = (std::size_t(f.width) + kGroupWidth - 1) / kGroupWidth * kGroupWidth;
-    err = d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(gx, rows),
-                                       cl::NDRange(kGroupWidth, 1));
+    const std::size_t gx = (std::size_t(width) + kGroupWidth - 1) / kGroupWidth * kGroupWidth;
+    const std::size_t pixels = rows * std::size_t(width);
+    cl_int err = queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(gx, rows),
+                                            cl::NDRange(kGroupWidth, 1));
     if (err != CL_SUCCESS) return cl_failure("launching pf_render_rows", err);
-    err = d.queue.enqueueReadBuffer(d.out, CL_TRUE, 0, pixels * 3 * sizeof(float), out);
+    err = queue.enqueueReadBuffer(out, CL_TRUE, 0, pixels * 3 * sizeof(float), pixels_out);
     if (err != CL_SUCCESS) return cl_failure("reading the rendered rows", err);
-    d.counter_host.resize(pixels * 2);
-    err = d.queue.enqueueReadBuffer(d.counters, CL_TRUE, 0, pixels * 2 * sizeof(uint32_t),
-                                    d.counter_host.data());
+    counter_host.resize(pixels * 2);
+    err = queue.enqueueReadBuffer(counters, CL_TRUE, 0, pixels * 2 * sizeof(uint32_t),
+                                  counter_host.data());
     if (err != CL_SUCCESS) return cl_failure("reading the counters", err);
+    SampleCounters c;
     for (std::size_t i = 0; i < pixels; ++i) {
-        stats.counters.rays += d.counter_host[2 * i];
-        stats.counters.nonfinite_samples += d.counter_host[2 * i + 1];
+        c.rays += counter_host[2 * i];
+        c.nonfinite_samples += counter_host[2 * i + 1];
     }
-    stats.counters.camera_samples = uint64_t(pixels) * uint64_t(fp.spp);
+    return c;
+}
+
+Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out) {
+    Impl& d = *impl_;
+    const FrameSpec& f = job.frame;
+    if (!d.has_scene)
+        return make_error(ErrorCode::invalid_argument, "opencl backend: render before set_scene");
+    if (f.width <= 0 || f.height <= 0 || job.y0 < 0 || job.y1 > f.height || job.y0 > job.y1)
+        return make_error(ErrorCode::invalid_argument,
+                          "opencl backend: rows [{}, {}) outside a {}x{} frame", job.y0, job.y1,
+                          f.width, f.height);
+    RenderStats stats;
+    if (job.y0 == job.y1) return stats;
+    const Timer timer;
+    if (Status s = update_lights(job); !s) return s.error();
+    const uint32_t variant = job.integrator.specialise ? d.features : uint32_t(kAllFeatures);
+    auto kernel = d.kernel(variant);
+    if (!kernel) return kernel.error();
+    const std::size_t rows = std::size_t(job.y1 - job.y0);
+    if (Status s = d.reserve_output(rows * std::size_t(f.width)); !s) return s.error();
+    const PfFrameParams fp = frame_params(job);
+    if (Status s = d.set_arguments(*kernel, fp); !s) return s.error();
+    auto counters = d.launch(*kernel, f.width, rows, out);
+    if (!counters) return counters.error();
+    stats.counters = *counters;
+    stats.counters.camera_samples = uint64_t(rows) * uint64_t(f.width) * uint64_t(fp.spp);
     stats.seconds = timer.seconds();
     return stats;
 }
@@ -401,7 +253,7 @@ Result<std::unique_ptr<OpenClBackend>> make_opencl_backend(const BackendOptions&
 }
 
 Result<std::vector<std::string>> list_opencl_devices() {
-    auto list = platforms();
+    auto list = opencl_platforms();
     if (!list) return list.error();
     std::vector<std::string> lines;
     for (std::size_t p = 0; p < list->size(); ++p) {

@@ -80,62 +80,81 @@ Mat4 default_scene_door_transform(float open_radians) {
     return hinge * swing * panel * glm::scale(Mat4(1.0f), Vec3(0.9f, 2.0f, 0.06f));
 }
 
-SceneModel make_default_scene() {
-    SceneBuilder b("builtin:default");
+namespace {
+
+struct DefaultMaterials {
+    int floor, wall, marble, crate, gold, mirror, glass, wood, big_light, small_light, lamp;
+};
+
+DefaultMaterials add_default_materials(SceneBuilder& b) {
+    DefaultMaterials m{};
     const int floor_image = b.add_image(make_floor_image(256));
     Material floor_mat = make_material("floor-tiles", Rgb(1.0f), 0.0f, 0.6f);
     floor_mat.base_color_texture.texture = b.add_texture(Texture{floor_image, Sampler{}});
-    const int floor = b.add_material(floor_mat);
-    const int wall = b.add_material(make_lambert("plaster", Rgb(0.7f, 0.68f, 0.64f)));
-    const int marble =
-        b.add_material(make_material("marble", Rgb(0.85f, 0.85f, 0.82f), 0.0f, 0.25f));
-    const int crate =
-        b.add_material(make_material("painted-crate", Rgb(0.55f, 0.18f, 0.08f), 0.0f, 0.5f));
-    const int gold = b.add_material(make_material("gold", Rgb(1.0f, 0.78f, 0.34f), 1.0f, 0.3f));
-    const int mirror = b.add_material(make_material("mirror", Rgb(0.95f), 1.0f, 0.0f));
+    m.floor = b.add_material(floor_mat);
+    m.wall = b.add_material(make_lambert("plaster", Rgb(0.7f, 0.68f, 0.64f)));
+    m.marble = b.add_material(make_material("marble", Rgb(0.85f, 0.85f, 0.82f), 0.0f, 0.25f));
+    m.crate = b.add_material(make_material("painted-crate", Rgb(0.55f, 0.18f, 0.08f), 0.0f, 0.5f));
+    m.gold = b.add_material(make_material("gold", Rgb(1.0f, 0.78f, 0.34f), 1.0f, 0.3f));
+    m.mirror = b.add_material(make_material("mirror", Rgb(0.95f), 1.0f, 0.0f));
     Material glass = make_material("green-glass", Rgb(1.0f), 0.0f, 0.0f);
     glass.transmission_factor = 1.0f;
     glass.ior = 1.5f;
     glass.attenuation_color = Rgb(0.3f, 0.8f, 0.5f);
     glass.attenuation_distance = 0.5f;
-    const int glass_mat = b.add_material(glass);
-    const int wood =
-        b.add_material(make_material("door-wood", Rgb(0.32f, 0.2f, 0.11f), 0.0f, 0.55f));
-    const int big_light = b.add_material(make_emitter("ceiling-panel", Rgb(2.5f)));
-    const int small_light = b.add_material(make_emitter("spot-panel", Rgb(18.0f, 16.0f, 13.0f)));
-    const int lamp = b.add_material(make_emitter("lamp-bulb", Rgb(400.0f, 300.0f, 180.0f)));
+    m.glass = b.add_material(glass);
+    m.wood = b.add_material(make_material("door-wood", Rgb(0.32f, 0.2f, 0.11f), 0.0f, 0.55f));
+    m.big_light = b.add_material(make_emitter("ceiling-panel", Rgb(2.5f)));
+    m.small_light = b.add_material(make_emitter("spot-panel", Rgb(18.0f, 16.0f, 13.0f)));
+    m.lamp = b.add_material(make_emitter("lamp-bulb", Rgb(400.0f, 300.0f, 180.0f)));
+    return m;
+}
 
-    add_room(b, wall, floor);
+// The ceiling panels, the lamp bulb and the wall mirror.
+void add_lights_and_mirror(SceneBuilder& b, const DefaultMaterials& m) {
     const Mat4 id(1.0f);
     b.add_instance(
-        b.add_mesh(make_quad({-1.5f, 2.999f, -4}, {0.75f, 0, 0}, {0, 0, 0.75f}, big_light)), id, -1,
-        "big-light");
+        b.add_mesh(make_quad({-1.5f, 2.999f, -4}, {0.75f, 0, 0}, {0, 0, 0.75f}, m.big_light)), id,
+        -1, "big-light");
     b.add_instance(
-        b.add_mesh(make_quad({1.8f, 2.999f, -6.5f}, {0.2f, 0, 0}, {0, 0, 0.2f}, small_light)), id,
+        b.add_mesh(make_quad({1.8f, 2.999f, -6.5f}, {0.2f, 0, 0}, {0, 0, 0.2f}, m.small_light)), id,
         -1, "small-light");
-    b.add_instance(b.add_mesh(make_sphere(0.04f, 8, 16, lamp)), at({-3.0f, 1.05f, -6.8f}), -1,
+    b.add_instance(b.add_mesh(make_sphere(0.04f, 8, 16, m.lamp)), at({-3.0f, 1.05f, -6.8f}), -1,
                    "lamp");
-    b.add_instance(b.add_mesh(make_quad({-3.98f, 1.5f, -3.0f}, {0, 0.9f, 0}, {0, 0, 1.2f}, mirror)),
-                   id, -1, "mirror");
+    b.add_instance(
+        b.add_mesh(make_quad({-3.98f, 1.5f, -3.0f}, {0, 0.9f, 0}, {0, 0, 1.2f}, m.mirror)), id, -1,
+        "mirror");
+}
 
-    const int pillar = b.add_mesh(make_cylinder(0.25f, 3.0f, 32, marble));
+// Pillars, crates, balls and the door.
+void add_furniture(SceneBuilder& b, const DefaultMaterials& m) {
+    const int pillar = b.add_mesh(make_cylinder(0.25f, 3.0f, 32, m.marble));
     for (Vec3 p : {Vec3(-2.5f, 0, -2), Vec3(2.5f, 0, -2), Vec3(-2.5f, 0, -6), Vec3(2.5f, 0, -6)})
         b.add_instance(pillar, at(p), -1, "pillar");
-    const int cube = b.add_mesh(make_unit_cube(crate));
+    const int cube = b.add_mesh(make_unit_cube(m.crate));
     b.add_instance(cube, at({-1.2f, 0.3f, -5.0f}, 20.0f, Vec3(0.6f)), -1, "crate");
     b.add_instance(cube, at({-0.9f, 0.8f, -5.1f}, 35.0f, Vec3(0.4f)), -1, "crate");
     b.add_instance(cube, at({1.6f, 0.25f, -3.2f}, -15.0f, Vec3(0.5f)), -1, "crate");
     b.add_instance(cube, at({-3.0f, 0.5f, -6.8f}, 0.0f, Vec3(0.5f, 1.0f, 0.5f)), -1, "lamp-stand");
-    const int ball = b.add_mesh(make_sphere(0.35f, 32, 64, gold));
+    const int ball = b.add_mesh(make_sphere(0.35f, 32, 64, m.gold));
     b.add_instance(ball, at({0.6f, 0.35f, -4.2f}), -1, "gold-ball");
     b.add_instance(ball, at({2.6f, 0.35f, -4.6f}), -1, "gold-ball");
     // A door in front of the back wall, hinged at x = 0.9: the game (coordinator/game) swings
     // it open when the player aims at it and presses the action key.
-    b.add_instance(b.add_mesh(make_unit_cube(wood)), default_scene_door_transform(0.0f), -1,
+    b.add_instance(b.add_mesh(make_unit_cube(m.wood)), default_scene_door_transform(0.0f), -1,
                    "door");
-    b.add_instance(b.add_mesh(make_sphere(0.45f, 32, 64, glass_mat)), at({-0.4f, 0.45f, -2.8f}), -1,
+    b.add_instance(b.add_mesh(make_sphere(0.45f, 32, 64, m.glass)), at({-0.4f, 0.45f, -2.8f}), -1,
                    "glass-ball");
+}
 
+}  // namespace
+
+SceneModel make_default_scene() {
+    SceneBuilder b("builtin:default");
+    const DefaultMaterials m = add_default_materials(b);
+    add_room(b, m.wall, m.floor);
+    add_lights_and_mirror(b, m);
+    add_furniture(b, m);
     Camera cam;
     cam.name = "default-camera";
     cam.yfov_radians = glm::radians(60.0f);

@@ -96,7 +96,8 @@ TEST(BalanceSim, ShippedTracesReproduceTheOrderingAndOursIsBest) {
         // With the farm's own steal rule (a tracer that ran out takes the tail half of the
         // busiest tracer's missing rows) ours has the least idle and the lowest tail.
         for (const char* other : {"robin-hood", "perfect", "perfect-smooth"}) {
-            EXPECT_LT(s.at("ours")[0], s.at(other)[0]) << column << " vs " << other << "\n" << *table;
+            EXPECT_LT(s.at("ours")[0], s.at(other)[0]) << column << " vs " << other << "\n"
+                                                       << *table;
             EXPECT_LT(s.at("ours")[2], s.at(other)[2]) << column << " vs " << other << ": p99";
         }
     }
