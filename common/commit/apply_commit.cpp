@@ -7,16 +7,10 @@
 #include <fmt/format.h>
 
 #include "common/base/hash.h"
+#include "common/base/overloaded.h"
 
 namespace pathfarm {
 namespace {
-
-template <class... Ts>
-struct Overloaded : Ts... {
-    using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
 
 // What vertex updates are checked against: the mesh shapes this commit will meet.
 struct MeshShape {

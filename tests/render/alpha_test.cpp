@@ -278,18 +278,8 @@ TEST_P(Alpha, KhronosTextureCoordinateTestKeepsItsCorners) {
     EXPECT_TRUE(br.y > 0.3f && br.x < 0.1f && br.z < 0.1f) << "bottom right green";
 }
 
-std::vector<tracer::BackendKind> backends() {
-#ifdef PATHFARM_HAS_OPENCL
-    return {tracer::BackendKind::embree, tracer::BackendKind::opencl};
-#else
-    return {tracer::BackendKind::embree};
-#endif
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Backends, Alpha, ::testing::ValuesIn(backends()), [](const auto& param_info) {
-        return std::string(param_info.param == tracer::BackendKind::embree ? "embree" : "opencl");
-    });
+INSTANTIATE_TEST_SUITE_P(Backends, Alpha, ::testing::ValuesIn(test::built_backends()),
+                         test::BackendTestName());
 
 }  // namespace
 }  // namespace pathfarm

@@ -197,18 +197,8 @@ TEST_P(IntegratorAudit, NormalMapsTiltTowardsImageUp) {
     }
 }
 
-std::vector<tracer::BackendKind> backends() {
-#ifdef PATHFARM_HAS_OPENCL
-    return {tracer::BackendKind::embree, tracer::BackendKind::opencl};
-#else
-    return {tracer::BackendKind::embree};
-#endif
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Backends, IntegratorAudit, ::testing::ValuesIn(backends()), [](const auto& param_info) {
-        return std::string(param_info.param == tracer::BackendKind::embree ? "embree" : "opencl");
-    });
+INSTANTIATE_TEST_SUITE_P(Backends, IntegratorAudit, ::testing::ValuesIn(test::built_backends()),
+                         test::BackendTestName());
 
 }  // namespace
 }  // namespace pathfarm

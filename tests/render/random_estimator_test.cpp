@@ -118,19 +118,17 @@ TEST(RandomLightingSuite, CoversEveryKindOfConfiguration) {
 std::vector<Param> params() {
     std::vector<Param> out;
     for (uint32_t i = 0; i < uint32_t(case_count()); ++i) {
-        out.push_back({i, tracer::BackendKind::embree});
-#ifdef PATHFARM_HAS_OPENCL
-        out.push_back({i, tracer::BackendKind::opencl});
-#endif
+        for (tracer::BackendKind backend : test::built_backends())
+            out.push_back({i, backend});
     }
     return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, RandomLighting, ::testing::ValuesIn(params()), [](const auto& param_info) {
-        return "case" + std::to_string(param_info.param.index) +
-               (param_info.param.backend == tracer::BackendKind::embree ? "_embree" : "_opencl");
-    });
+INSTANTIATE_TEST_SUITE_P(Cases, RandomLighting, ::testing::ValuesIn(params()),
+                         [](const auto& param_info) {
+                             return "case" + std::to_string(param_info.param.index) + "_" +
+                                    test::backend_label(param_info.param.backend);
+                         });
 
 }  // namespace
 }  // namespace pathfarm

@@ -186,18 +186,8 @@ TEST_P(SealedLightsRender, CullingAgreesStatisticallyWithSamplingEveryEmitter) {
                                     << result.pixel_threshold << "), mean p " << result.mean_p;
 }
 
-std::vector<tracer::BackendKind> backends() {
-#ifdef PATHFARM_HAS_OPENCL
-    return {tracer::BackendKind::embree, tracer::BackendKind::opencl};
-#else
-    return {tracer::BackendKind::embree};
-#endif
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Backends, SealedLightsRender, ::testing::ValuesIn(backends()), [](const auto& param_info) {
-        return std::string(param_info.param == tracer::BackendKind::embree ? "embree" : "opencl");
-    });
+INSTANTIATE_TEST_SUITE_P(Backends, SealedLightsRender, ::testing::ValuesIn(test::built_backends()),
+                         test::BackendTestName());
 
 }  // namespace
 }  // namespace pathfarm

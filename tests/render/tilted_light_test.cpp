@@ -88,19 +88,17 @@ TEST_P(TiltedLight, LightBsdfAndMisAgreeOnEveryBlock) {
 std::vector<Case> cases() {
     std::vector<Case> out;
     for (const char* s : {"tilt20", "tilt35", "tilt50"}) {
-        out.push_back({s, tracer::BackendKind::embree});
-#ifdef PATHFARM_HAS_OPENCL
-        out.push_back({s, tracer::BackendKind::opencl});
-#endif
+        for (tracer::BackendKind backend : test::built_backends())
+            out.push_back({s, backend});
     }
     return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Repro, TiltedLight, ::testing::ValuesIn(cases()), [](const auto& param_info) {
-        return std::string(param_info.param.scene) +
-               (param_info.param.backend == tracer::BackendKind::embree ? "_embree" : "_opencl");
-    });
+INSTANTIATE_TEST_SUITE_P(Repro, TiltedLight, ::testing::ValuesIn(cases()),
+                         [](const auto& param_info) {
+                             return std::string(param_info.param.scene) + "_" +
+                                    test::backend_label(param_info.param.backend);
+                         });
 
 }  // namespace
 }  // namespace pathfarm

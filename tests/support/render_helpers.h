@@ -2,6 +2,7 @@
 // backend.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "common/film/film.h"
@@ -14,6 +15,29 @@ namespace pathfarm::test {
 // The backend test renders use unless a test names one: Embree, or the one named by the
 // PATHFARM_TEST_BACKEND environment variable (ctest runs the stress suite again with "opencl").
 tracer::BackendKind default_backend();
+
+// The backends a render test is parameterised over: Embree, and OpenCL where the test target
+// defines PATHFARM_HAS_OPENCL (inline so that each target's own definition counts).
+inline std::vector<tracer::BackendKind> built_backends() {
+#ifdef PATHFARM_HAS_OPENCL
+    return {tracer::BackendKind::embree, tracer::BackendKind::opencl};
+#else
+    return {tracer::BackendKind::embree};
+#endif
+}
+
+// "embree" or "opencl", for test names.
+inline const char* backend_label(tracer::BackendKind kind) {
+    return kind == tracer::BackendKind::embree ? "embree" : "opencl";
+}
+
+// The name generator of suites parameterised by backend alone.
+struct BackendTestName {
+    template <typename ParamInfo>
+    std::string operator()(const ParamInfo& param_info) const {
+        return backend_label(param_info.param);
+    }
+};
 
 struct RenderRequest {
     int width = 32;

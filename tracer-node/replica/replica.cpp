@@ -1,15 +1,10 @@
 // Replica bookkeeping: commits in, the scene and its change set out.
 #include "tracer-node/replica/replica.h"
 
+#include "common/base/overloaded.h"
+
 namespace pathfarm::tracer {
 namespace {
-
-template <class... Ts>
-struct Overloaded : Ts... {
-    using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
 
 template <typename T>
 std::map<uint32_t, uint32_t> dense_index(const std::map<uint32_t, T>& objects) {

@@ -16,17 +16,24 @@ Commit big_commit() {
     return make_snapshot(s, 9);
 }
 
-TEST(CommitCodec, RoundTripsASnapshotExactly) {
-    const Commit c = big_commit();
+// Encodes and decodes `c`, applies both to empty replicas and expects equal scenes; returns
+// the decoded commit and the replica it built.
+std::pair<Commit, ReplicaState> round_trip(const Commit& c) {
     const EncodedCommit e = encode_commit(c);
     auto d = decode_commit(e.commit, e.chunks);
-    ASSERT_TRUE(d.ok()) << d.error().message;
+    EXPECT_TRUE(d.ok()) << d.error().message;
+    if (!d.ok()) return {};
     ReplicaState a, b;
-    ASSERT_TRUE(apply_commit(a, c).ok());
-    ASSERT_TRUE(apply_commit(b, *d).ok());
+    EXPECT_TRUE(apply_commit(a, c).ok());
+    EXPECT_TRUE(apply_commit(b, *d).ok());
     EXPECT_EQ(content_hash(a.scene), content_hash(b.scene));
-    EXPECT_EQ(d->frame, 9u);
-    EXPECT_TRUE(d->is_snapshot);
+    return {*d, b};
+}
+
+TEST(CommitCodec, RoundTripsASnapshotExactly) {
+    const auto [d, replica] = round_trip(big_commit());
+    EXPECT_EQ(d.frame, 9u);
+    EXPECT_TRUE(d.is_snapshot);
 }
 
 TEST(CommitCodec, AlphaModesAndTextureTransformsRoundTrip) {
@@ -36,14 +43,7 @@ TEST(CommitCodec, AlphaModesAndTextureTransformsRoundTrip) {
     m.alpha_cutoff = 0.3f;
     m.emissive_texture.transform = UvTransform{Vec2(0.5f, -0.25f), 1.25f, Vec2(2.0f, 0.5f)};
     model.materials.at(1).alpha_mode = AlphaMode::blend;
-    const Commit c = make_snapshot(scene_state_from_model(model), 3);
-    const EncodedCommit e = encode_commit(c);
-    auto d = decode_commit(e.commit, e.chunks);
-    ASSERT_TRUE(d.ok()) << d.error().message;
-    ReplicaState a, b;
-    ASSERT_TRUE(apply_commit(a, c).ok());
-    ASSERT_TRUE(apply_commit(b, *d).ok());
-    EXPECT_EQ(content_hash(a.scene), content_hash(b.scene));
+    const auto [d, b] = round_trip(make_snapshot(scene_state_from_model(model), 3));
     const Material& back = b.scene.materials.at(0);
     EXPECT_EQ(back.alpha_mode, AlphaMode::mask);
     EXPECT_EQ(back.alpha_cutoff, 0.3f);
