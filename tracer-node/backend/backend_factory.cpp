@@ -17,8 +17,9 @@ Result<BackendKind> parse_backend_kind(const std::string& name) {
                       "--backend {}: unknown backend (embree or opencl)", name);
 }
 
-Result<std::unique_ptr<RenderBackend>> create_backend(BackendKind kind,
-                                                      const BackendOptions& options) {
+// `options` is unused in a build without either backend (the sanitizer build).
+Result<std::unique_ptr<RenderBackend>> create_backend(
+    BackendKind kind, [[maybe_unused]] const BackendOptions& options) {
     switch (kind) {
         case BackendKind::embree:
 #ifdef PATHFARM_HAS_EMBREE
