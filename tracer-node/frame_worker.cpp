@@ -71,7 +71,7 @@ Status FrameWorker::render(const wire::Assignment& a) {
                           scene_.cameras.empty() ? Camera{} : scene_.cameras[0]};
     job.integrator.max_depth = int(a.max_depth);
     job.integrator.rr_scale = std::min(1.0f, a.rr_scale);
-    const int tile_rows = kRowsPerWorkUnit * kUnitsPerTile;
+    const int tile_rows = kRowsPerTile;
     for (int y = int(a.y0); y < int(a.y1); y += tile_rows) {
         if (control_.newest_commit() > a.commit) return {};  // the frame closed: drop stale rows
         if (control_.truncated(a, uint32_t(y))) return {};   // the rest went to another tracer

@@ -30,9 +30,6 @@ struct TracerOptions {
 // How many times slower than its real speed the tracer renders `frame` (slowdown and hiccups).
 double frame_slowdown(const TracerOptions& o, uint64_t frame);
 
-// Work units (common/base/work_unit.h) per tile sent back.
-inline constexpr int kUnitsPerTile = 4;
-
 // Runs until `stop` becomes true (or the reconnect budget is spent). Returns an error only for
 // problems that retrying cannot fix (bad options, backend unavailable).
 Status run_tracer(const TracerOptions& options, const std::atomic<bool>& stop);

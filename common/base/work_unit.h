@@ -7,4 +7,9 @@ namespace pathfarm {
 
 inline constexpr int kRowsPerWorkUnit = 4;
 
+// A tracer sends a tile at least every this many units of a range (and at the range's end), so
+// a tracer not heard of for a while has rendered fewer rows than a tile since.
+inline constexpr int kUnitsPerTile = 4;
+inline constexpr int kRowsPerTile = kRowsPerWorkUnit * kUnitsPerTile;
+
 }  // namespace pathfarm

@@ -12,10 +12,21 @@
 
 namespace pathfarm::coord {
 
-using Clock = std::chrono::steady_clock;
+namespace {
 
-TracerPool::TracerPool(std::unique_ptr<Balancer> balancer, std::chrono::milliseconds deadline)
-    : balancer_(std::move(balancer)), deadline_(deadline) {}
+// What a steal costs before the thief's rows can arrive: the assignment out, the thief picking
+// it up, and its tile back. On loopback the farm logs 0.3-1 ms ("steal overhead", debug).
+constexpr double kStealLatencyMs = 1.0;
+
+double ms_between(TracerPool::Clock::time_point a, TracerPool::Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+TracerPool::TracerPool(std::unique_ptr<Balancer> balancer, std::chrono::milliseconds deadline,
+                       std::function<Clock::time_point()> now)
+    : balancer_(std::move(balancer)), deadline_(deadline), now_(std::move(now)) {}
 
 void TracerPool::add(std::shared_ptr<net::Session> s) {
     const uint64_t id = s->peer().session_id;
@@ -73,6 +84,8 @@ void TracerPool::sync(Tracer& t, const FrameCommit& commit,
     t.replica_commit = work_.frame;
     t.assigned.clear();
     t.render_ms = 0.0;
+    t.tile_rows = 0;
+    t.stole_at.reset();
 }
 
 void TracerPool::split_rows(const std::vector<uint64_t>& ids) {
@@ -105,6 +118,7 @@ void TracerPool::assign(uint64_t id, Tracer& t, const RowRange& r) {
                        work_.rr_scale};
     t.session->send(wire::encode_assignment(a));
     t.assigned.push_back(r);
+    t.news_at = now_();
     spdlog::debug("frame {}: rows [{}, {}) to tracer {} \"{}\"", work_.frame, r.y0, r.y1, id,
                   t.name);
 }
@@ -125,7 +139,15 @@ void TracerPool::on_tile(uint64_t id, const std::string& bytes) {
         return it->second.session->reject(net::ProtocolError::malformed,
                                           "tile rows or pixels do not fit the frame");
     assembler_->add(range, rgb->data());
-    it->second.render_ms += tile->render_ms;
+    Tracer& t = it->second;
+    t.render_ms += tile->render_ms;
+    t.tile_rows += range.rows();
+    t.news_at = now_();
+    if (t.stole_at) {
+        spdlog::debug("frame {}: steal overhead of tracer \"{}\": {:.2f} ms", work_.frame, t.name,
+                      ms_between(*t.stole_at, t.news_at) - tile->render_ms);
+        t.stole_at.reset();
+    }
     const std::size_t unit0 = std::size_t(range.y0 / kRowsPerWorkUnit);
     for (std::size_t k = 0; k < tile->unit_rays.size() && unit0 + k < units_.size(); ++k)
         units_[unit0 + k].rays = double(tile->unit_rays[k]);
@@ -147,12 +169,17 @@ std::vector<RowRange> TracerPool::missing_of(const Tracer& t) const {
 bool TracerPool::idle(const Tracer& t) const { return missing_of(t).empty(); }
 
 void TracerPool::steal_for(uint64_t id) {
+    const Clock::time_point now = now_();
     std::vector<TracerProgress> progress;
     for (const auto& [other, t] : tracers_)
-        progress.push_back({other, missing_of(t), t.replica_commit == work_.frame});
-    const auto steal = choose_steal(id, progress);
+        progress.push_back({other, missing_of(t), t.replica_commit == work_.frame,
+                            t.tile_rows > 0 ? t.render_ms / t.tile_rows : 0.0,
+                            std::max(0.0, ms_between(t.news_at, now))});
+    const auto steal = choose_steal(id, progress, kStealLatencyMs);
     if (!steal) return;
-    assign(id, tracers_.at(id), steal->rows);
+    Tracer& thief = tracers_.at(id);
+    assign(id, thief, steal->rows);
+    thief.stole_at = now;
     // The victim stops before the stolen rows instead of rendering them too.
     Tracer& v = tracers_.at(steal->victim);
     for (RowRange& r : v.assigned)

@@ -61,7 +61,11 @@ struct FrameOutcome {
 
 class TracerPool {
 public:
-    TracerPool(std::unique_ptr<Balancer> balancer, std::chrono::milliseconds deadline);
+    using Clock = std::chrono::steady_clock;
+    // `now` paces the steal rule (how long ago each tracer was last heard of); tests pass a
+    // clock of their own. Deadlines always use the steady clock.
+    TracerPool(std::unique_ptr<Balancer> balancer, std::chrono::milliseconds deadline,
+               std::function<Clock::time_point()> now = Clock::now);
 
     // --- network thread
     // Takes a tracer's session and installs its message and close handlers.
@@ -91,9 +95,12 @@ private:
         std::optional<uint64_t> replica_commit;  // the commit its replica holds once sent
         std::vector<RowRange> assigned;          // this frame
         RowRange first_assignment;
-        double render_ms = 0.0;                  // this frame, from its tiles
-        std::optional<uint64_t> measured_frame;  // the frame `measured` describes
-        TracerFrame measured;                    // what the balancer hears of that frame
+        double render_ms = 0.0;                     // this frame, from its tiles
+        int tile_rows = 0;                          // rows of those tiles
+        Clock::time_point news_at;                  // its last tile or assignment
+        std::optional<Clock::time_point> stole_at;  // when it last took rows (for the log)
+        std::optional<uint64_t> measured_frame;     // the frame `measured` describes
+        TracerFrame measured;                       // what the balancer hears of that frame
     };
     void on_tile(uint64_t id, const std::string& bytes);
     void on_closed(uint64_t id);
@@ -108,6 +115,7 @@ private:
 
     std::unique_ptr<Balancer> balancer_;
     std::chrono::milliseconds deadline_;
+    std::function<Clock::time_point()> now_;
     mutable std::mutex mutex_;
     std::condition_variable cv_;
     std::map<uint64_t, Tracer> tracers_;

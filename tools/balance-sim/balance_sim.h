@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/base/result.h"
+#include "common/base/work_unit.h"
 #include "coordinator/balance/balancer.h"
 
 namespace pathfarm::sim {
@@ -21,7 +22,7 @@ struct SimOptions {
     double latency_ms = 0.5;    // per message (assignment, tile, re-issue)
     int frames = 128;
     uint64_t seed = 1;
-    int units_per_tile = 4;  // a tracer sends a tile every this many units
+    int units_per_tile = kUnitsPerTile;  // a tracer sends a tile every this many units
     // Mid-frame stealing follows the balancer (Balancer::steals_mid_frame), as in the farm.
 };
 

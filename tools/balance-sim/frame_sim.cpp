@@ -28,6 +28,7 @@ void FrameSim::run(const std::vector<RowRange>& ranges) {
     for (std::size_t i = 0; i < tracers_.size() && i < ranges.size(); ++i) {
         if (ranges[i].empty()) continue;
         tracers_[i].assigned.push_back(ranges[i]);
+        tracers_[i].news_at = 0.0;
         push({latency_ms_, Kind::assignment, i, ranges[i], 0.0});
     }
     while (!events_.empty() && delivered_count_ < cost_.size()) {
@@ -106,6 +107,9 @@ void FrameSim::send_tile(std::size_t i, double t) {
 
 void FrameSim::on_tile(const Event& e) {
     Tracer& tr = tracers_[e.tracer];
+    tr.heard_ms += e.render_ms;
+    tr.heard_rows += e.rows.rows();
+    tr.news_at = e.t;
     for (int u = e.rows.y0 / kRowsPerWorkUnit; u * kRowsPerWorkUnit < e.rows.y1; ++u) {
         coord::UnitReport& r = units_[std::size_t(u)];
         r.rays = cost_[std::size_t(u)];  // a speed-independent cost, as the farm's rays are
@@ -138,12 +142,18 @@ std::vector<RowRange> FrameSim::missing_of(const Tracer& t) const {
 
 void FrameSim::steal_for(std::size_t thief, double t) {
     std::vector<coord::TracerProgress> progress;
-    for (std::size_t k = 0; k < tracers_.size(); ++k)
-        progress.push_back({k + 1, missing_of(tracers_[k]), true});
-    const auto steal = coord::choose_steal(thief + 1, progress);
+    for (std::size_t k = 0; k < tracers_.size(); ++k) {
+        const Tracer& tr = tracers_[k];
+        progress.push_back({k + 1, missing_of(tr), true,
+                            tr.heard_rows > 0 ? tr.heard_ms / tr.heard_rows : 0.0,
+                            std::max(0.0, t - tr.news_at)});
+    }
+    // The thief's rows start arriving after its assignment went out and its tile came back.
+    const auto steal = coord::choose_steal(thief + 1, progress, 2.0 * latency_ms_);
     if (!steal) return;
     const std::size_t victim = steal->victim - 1;
     tracers_[thief].assigned.push_back(steal->rows);
+    tracers_[thief].news_at = t;
     for (RowRange& r : tracers_[victim].assigned)
         if (r.y0 < steal->rows.y0 && steal->rows.y0 < r.y1) r.y1 = steal->rows.y0;
     push({t + latency_ms_, Kind::assignment, thief, steal->rows, 0.0});

@@ -53,6 +53,9 @@ private:
         double render_ms = 0.0;                 // summed tile times (the farm's busy)
         double useful_ms = 0.0;                 // time on units it delivered first
         std::vector<coord::RowRange> assigned;  // as the coordinator sees it
+        double heard_ms = 0.0;                  // coordinator: tile times received
+        int heard_rows = 0;                     // coordinator: rows of those tiles
+        double news_at = 0.0;                   // coordinator: last tile or assignment
         std::vector<coord::RowRange> received;  // as the tracer sees it
     };
     void push(Event e) { events_.push(e); }

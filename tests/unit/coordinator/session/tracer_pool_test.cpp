@@ -1,6 +1,6 @@
 // The tracer pool without sockets (in-memory sessions): rows re-issued after the deadline, a
-// mid-frame steal with the victim's truncation, a tracer leaving mid-frame, snapshots for
-// late tracers, and malformed tiles refused.
+// mid-frame steal with the victim's truncation (and none when the victim is nearly done), a
+// tracer leaving mid-frame, snapshots for late tracers, and malformed tiles refused.
 #include "coordinator/session/tracer_pool.h"
 
 #include <thread>
@@ -60,7 +60,10 @@ std::string tile(uint64_t frame, int y0, int y1, float value) {
 class TracerPoolTest : public ::testing::Test {
 protected:
     void start(const std::string& balancer, std::chrono::milliseconds deadline, int tracers = 2) {
-        pool_ = std::make_unique<TracerPool>(make_balancer(balancer), deadline);
+        // The steal rule's clock stands still unless a test advances it.
+        pool_ = std::make_unique<TracerPool>(make_balancer(balancer), deadline, [this] {
+            return TracerPool::Clock::time_point(std::chrono::microseconds(clock_us_.load()));
+        });
         for (int i = 0; i < tracers; ++i) {
             sessions_.push_back(
                 std::make_shared<MemorySession>(uint64_t(i + 1), "t" + std::to_string(i)));
@@ -91,6 +94,7 @@ protected:
         return result;
     }
 
+    std::atomic<int64_t> clock_us_{1'000'000};
     std::unique_ptr<TracerPool> pool_;
     std::vector<std::shared_ptr<MemorySession>> sessions_;
     std::vector<std::string> commit_{"commit"}, snapshot_{"snapshot"};
@@ -136,22 +140,45 @@ TEST_F(TracerPoolTest, ATracerThatRanOutTakesTheTailOfTheBusiestOnesRows) {
     const auto result = wait([&] {
         a.deliver(tile(0, 0, 16, 1.0f));
         a.deliver(tile(0, 16, 32, 1.0f));  // a is done; b still misses 8 units
+        // a's tiles: 2 ms per 16 rows. b, not heard of since its assignment (the clock stands
+        // still), is assumed as fast: 4 ms left; a starts 1 ms late, so 12 rows make both end
+        // at 2.5 ms (steal_test.cpp has the arithmetic).
         const Sent to_a = sent_to(a), to_b = sent_to(b);
         ASSERT_EQ(to_a.assignments.size(), 1u);
-        EXPECT_EQ(to_a.assignments[0].y0, 48u) << "the tail half of b's rows";
+        EXPECT_EQ(to_a.assignments[0].y0, 52u) << "the tail of b's rows";
         EXPECT_EQ(to_a.assignments[0].y1, 64u);
         ASSERT_EQ(to_b.truncations.size(), 1u);
-        EXPECT_EQ(to_b.truncations[0].row, 48u) << "b stops where the stolen rows begin";
+        EXPECT_EQ(to_b.truncations[0].row, 52u) << "b stops where the stolen rows begin";
         b.deliver(tile(0, 32, 48, 2.0f));
-        a.deliver(tile(0, 48, 64, 3.0f));
+        b.deliver(tile(0, 48, 52, 2.0f));
+        a.deliver(tile(0, 52, 64, 3.0f));
     });
     EXPECT_EQ(result, TracerPool::Wait::complete);
     const FrameOutcome out = pool_->finish();
     EXPECT_EQ(out.image.pixel(0, 40).x, 2.0f);
     EXPECT_EQ(out.image.pixel(0, 60).x, 3.0f);
     ASSERT_EQ(out.tracers.size(), 2u);
-    EXPECT_EQ(out.tracers[0].rows_delivered, 48);
-    EXPECT_EQ(out.tracers[1].rows_delivered, 16);
+    EXPECT_EQ(out.tracers[0].rows_delivered, 44);
+    EXPECT_EQ(out.tracers[1].rows_delivered, 20);
+}
+
+TEST_F(TracerPoolTest, ATracerAboutToFinishKeepsItsRows) {
+    start("cost-predictive", std::chrono::seconds(10));
+    begin(0, 64);
+    MemorySession &a = *sessions_[0], &b = *sessions_[1];
+    sent_to(a);
+    sent_to(b);
+    const auto result = wait([&] {
+        a.deliver(tile(0, 0, 16, 1.0f));
+        b.deliver(tile(0, 32, 48, 2.0f));  // b: 2 ms per 16 rows
+        clock_us_ += 1000;                 // 1 ms on: b has rendered 8 of its last 16 rows
+        a.deliver(tile(0, 16, 32, 1.0f));
+        EXPECT_TRUE(sent_to(a).assignments.empty()) << "1 ms of b's work left: not worth a steal";
+        EXPECT_TRUE(sent_to(b).truncations.empty());
+        b.deliver(tile(0, 48, 64, 2.0f));
+    });
+    EXPECT_EQ(result, TracerPool::Wait::complete);
+    EXPECT_EQ(pool_->finish().tracers.at(1).rows_delivered, 32);
 }
 
 TEST_F(TracerPoolTest, ATracerLeavingMidFrameHasItsRowsReissuedAtOnce) {
