@@ -40,16 +40,13 @@ std::vector<MeshBvhView> FrameWorker::mesh_bvhs() const {
 
 Status FrameWorker::update_backend() {
     ReplicaScene next = replica_.take_scene();
+    const glm::dvec3 previous_origin = scene_.origin;
     scene_ = std::move(next.scene);
     // Camera-relative, as pathfarm-render does (scene_model.h): same floats, same image. A
-    // camera move shifts every instance the backend sees.
-    recentre_on_camera(scene_, scene_.cameras.empty() ? Camera{} : scene_.cameras[0]);
+    // camera move into another cell shifts every instance the backend sees; within its cell
+    // it moves only the camera.
     SceneChanges& changes = next.changes;
-    if (changes.camera) {
-        changes.instances.resize(scene_.instances.size());
-        for (uint32_t i = 0; i < changes.instances.size(); ++i)
-            changes.instances[i] = i;
-    }
+    recentre_for_backend(scene_, previous_origin, changes);
     if (backend_.wants_bvh_nodes()) backend_.provide_mesh_bvhs(mesh_bvhs());
     return backend_.update_scene(scene_, changes);
 }

@@ -1,6 +1,9 @@
 // Queries over the flat scene and flattening of its node hierarchy.
 #include "common/scene/scene_model.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "common/base/check.h"
 #include "common/math/transform.h"
 
@@ -73,9 +76,20 @@ bool uses_sun_sky(const SceneModel& scene) {
     }
 }
 
+double recentre_cell(const Bounds3f& world) {
+    constexpr double kCellsAcross = 4.0;
+    const double diagonal = world.empty() ? 0.0 : double(glm::length(world.extent()));
+    const double cell = std::exp2(std::ceil(std::log2(std::max(diagonal / kCellsAcross, 1e-3))));
+    return std::min(cell, 1048576.0);
+}
+
 Camera recentre_on_camera(SceneModel& scene, Camera camera) {
-    const glm::dvec3 eye(camera.camera_to_world[3]);
-    const auto shift = [&](Mat4& m) { m[3] = Vec4(Vec3(glm::dvec3(m[3]) - eye), m[3].w); };
+    const double cell = recentre_cell(world_bounds(scene));
+    const glm::dvec3 eye = glm::dvec3(camera.camera_to_world[3]) + scene.origin;
+    const glm::dvec3 origin = glm::floor(eye / cell + 0.5) * cell;
+    const glm::dvec3 shift_by = origin - scene.origin;
+    scene.origin = origin;
+    const auto shift = [&](Mat4& m) { m[3] = Vec4(Vec3(glm::dvec3(m[3]) - shift_by), m[3].w); };
     for (Instance& i : scene.instances)
         shift(i.transform);
     for (Camera& c : scene.cameras)

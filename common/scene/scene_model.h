@@ -53,6 +53,8 @@ struct SceneModel {
     std::vector<Skin> skins;
     std::vector<AnimationClip> animations;
     Environment environment;
+    // The world position of this model's origin: zero as loaded, moved by recentre_on_camera.
+    glm::dvec3 origin{0.0};
 
     const Image* texture_image(const TextureRef& ref) const;
 };
@@ -63,13 +65,19 @@ void flatten_nodes(SceneModel& scene);
 
 Bounds3f world_bounds(const SceneModel& scene);
 
-// Camera-relative rendering: moves the world so that `camera`'s eye is the origin, subtracting
-// in double precision from every instance and camera translation. Far from
-// the world origin, float hit points and ray offsets lose precision (at 1e4 m one float step is
+// Camera-relative rendering: moves the world so that the origin is near `camera`'s eye,
+// subtracting in double precision from every instance and camera translation. Far from the
+// world origin, float hit points and ray offsets lose precision (at 1e4 m one float step is
 // 1 mm: light leaks and acne); near the camera, where the pixels are, they keep it. Geometry
 // whose vertices themselves hold large coordinates keeps the precision it was stored with.
-// Returns `camera` moved likewise.
+// The new origin is the eye snapped to a grid of cells about a quarter of the scene's size
+// (recentre_cell), so a camera moving within its cell leaves every instance where it was
+// (backends have no acceleration structure to update), and the result depends on this frame
+// only, never on earlier ones (a tracer that joins late renders the same bits). Sets
+// scene.origin; returns `camera` moved likewise.
 Camera recentre_on_camera(SceneModel& scene, Camera camera);
+// The cell edge: the power of two nearest above a quarter of the world bounds' diagonal.
+double recentre_cell(const Bounds3f& world);
 std::size_t triangle_count(const SceneModel& scene);
 bool has_emissive_triangles(const SceneModel& scene);
 // Whether the sun/sky lights this scene (Environment::sky resolved against its emitters).

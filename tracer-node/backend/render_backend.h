@@ -39,8 +39,8 @@ struct MeshBvhView {
 // scene, and any change that adds or removes objects (indices may have moved), has `structure`.
 struct SceneChanges {
     bool structure = false;
-    std::vector<uint32_t> instances;      // transforms; a camera move shifts them all (rendering
-                                          // is camera-relative)
+    std::vector<uint32_t> instances;      // transforms; a camera move into another recentring
+                                          // cell shifts them all (scene_model.h)
     std::vector<uint32_t> mesh_vertices;  // deformed meshes (positions, normals, tangents)
     std::vector<uint32_t> materials;      // any parameter, emission included
     std::vector<uint32_t> textures;       // a texture or its image
@@ -53,6 +53,15 @@ struct SceneChanges {
     static SceneChanges everything();
     bool empty() const;
 };
+
+// What differs between two scenes with the same objects (a tool's or a test's view of a
+// commit): instances whose transform differs, meshes whose positions differ, and the camera.
+SceneChanges diff_scenes(const SceneModel& before, const SceneModel& after);
+
+// Camera-relative rendering for a backend (scene_model.h): recentres `scene` (in world space)
+// on its first camera; when the origin left `previous_origin`'s cell, every instance moved.
+void recentre_for_backend(SceneModel& scene, const glm::dvec3& previous_origin,
+                          SceneChanges& changes);
 
 class RenderBackend {
 public:

@@ -33,14 +33,31 @@ public:
         lights_.reset();
         shading_.reset();
         kernel_.reset();
+        const Timer timer;
         Result<std::unique_ptr<EmbreeScene>> kernel =
             Error{ErrorCode::backend_error, "embree: scene not built"};
         arena_.execute([&] { kernel = EmbreeScene::build(scene, options_.threads); });
         if (!kernel) return kernel.error();
         kernel_ = std::move(kernel.value());
-        shading_ = std::make_unique<ShadingScene>(scene);
-        culling_.set_scene(scene);
-        lights_.reset();
+        spdlog::debug("embree backend: scene built in {:.2f} ms", timer.milliseconds());
+        adopt(scene);
+        return {};
+    }
+
+    // Only what `changes` names is redone in Embree: transforms placed, deformed meshes
+    // refitted (EmbreeScene). A structural change builds anew.
+    Status update_scene(const SceneModel& scene, const SceneChanges& changes) override {
+        if (!kernel_ || changes.structure) return set_scene(scene);
+        const Timer timer;
+        Result<EmbreeUpdate> u = Error{ErrorCode::backend_error, "embree: scene not updated"};
+        arena_.execute([&] { u = kernel_->update(scene, changes); });
+        if (!u) return u.error();
+        spdlog::debug(
+            "embree backend: update in {:.2f} ms (instances: {} placed, {} re-baked; meshes: {} "
+            "re-baked, {} rebuilt; baked BVH {})",
+            timer.milliseconds(), u->instances_placed, u->instances_rebaked, u->meshes_rebaked,
+            u->meshes_rebuilt, u->baked_rebuilt ? "rebuilt" : "kept");
+        adopt(scene);
         return {};
     }
 
@@ -90,6 +107,14 @@ public:
     }
 
 private:
+    // The integrator's view of `scene`: normal matrices, the sealed-emitter analysis (adopted
+    // when only the camera moved), the light sampler rebuilt at the next render.
+    void adopt(const SceneModel& scene) {
+        lights_.reset();
+        shading_ = std::make_unique<ShadingScene>(scene);
+        culling_.set_scene(scene);
+    }
+
     BackendOptions options_;
     tbb::task_arena arena_;
     std::unique_ptr<EmbreeScene> kernel_;

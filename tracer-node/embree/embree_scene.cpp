@@ -1,4 +1,4 @@
-// Embree 3 scene construction and ray queries.
+// Embree 3 two-level scene: construction, incremental updates and ray queries.
 #include "tracer-node/embree/embree_scene.h"
 
 #include <mutex>
@@ -32,16 +32,18 @@ const char* embree_error_name(RTCError code) {
     }
 }
 
-// What an alpha-tested geometry's filter needs (glTF MASK / BLEND: common/scene/alpha.h).
+// What an alpha-tested geometry's filter needs (glTF MASK / BLEND: common/scene/alpha.h). The
+// scene pointer follows every update; the mesh is found by index in it.
 struct AlphaGeometry {
-    const SceneModel* scene;
-    const Mesh* mesh;
+    const SceneModel* scene = nullptr;
+    uint32_t mesh = 0;
 };
 
-// Intersection and occlusion filter: rejects hits the material's alpha discards. For instanced
-// meshes the ray is in object space; the BLEND hash only needs to be deterministic per ray.
+// Intersection and occlusion filter: rejects hits the material's alpha discards. The ray is in
+// the mesh's object space; the BLEND hash only needs to be deterministic per ray.
 void alpha_filter(const RTCFilterFunctionNArguments* args) {
     const auto* g = static_cast<const AlphaGeometry*>(args->geometryUserPtr);
+    const Mesh& mesh = g->scene->meshes[g->mesh];
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
         if (args->valid[i] != -1) continue;
@@ -49,26 +51,79 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
         RTCHitN* hit = args->hit;
         const Vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
         const Vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
-        if (!alpha_keeps_hit(*g->scene, *g->mesh, RTCHitN_primID(hit, n, i), RTCHitN_u(hit, n, i),
+        if (!alpha_keeps_hit(*g->scene, mesh, RTCHitN_primID(hit, n, i), RTCHitN_u(hit, n, i),
                              RTCHitN_v(hit, n, i), o, d, RTCRayN_tfar(ray, n, i)))
             args->valid[i] = 0;
     }
 }
 
+// One Embree triangle geometry and what its alpha filter reads.
+struct TriangleGeometry {
+    RTCGeometry geom = nullptr;  // owned by its scene
+    std::size_t vertex_count = 0;
+    bool filtered = false;  // alpha filter installed
+    std::unique_ptr<AlphaGeometry> alpha = std::make_unique<AlphaGeometry>();
+};
+
+// A mesh placed by several instances: its own scene in object space, instanced.
+struct SharedMesh {
+    RTCScene scene = nullptr;
+    TriangleGeometry tri;
+    std::vector<uint32_t> users;  // the instances placing it
+};
+
+// Writes the mesh's positions into the geometry's vertex buffer (allocated when its size
+// changed), moved by `to_model` when given: exactly the arithmetic ShadingScene uses, so hits
+// and shading agree.
+void write_positions(RTCDevice, TriangleGeometry& g, const Mesh& mesh, const Mat4* to_model) {
+    if (g.vertex_count != mesh.positions.size()) {
+        rtcSetNewGeometryBuffer(g.geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.positions.size());
+        g.vertex_count = mesh.positions.size();
+    }
+    auto* v = static_cast<float*>(rtcGetGeometryBufferData(g.geom, RTC_BUFFER_TYPE_VERTEX, 0));
+    if (v == nullptr) return;  // the device reported the error
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const Vec3 p = to_model ? transform_point(*to_model, mesh.positions[i]) : mesh.positions[i];
+        v[3 * i] = p.x;
+        v[3 * i + 1] = p.y;
+        v[3 * i + 2] = p.z;
+    }
+    rtcUpdateGeometryBuffer(g.geom, RTC_BUFFER_TYPE_VERTEX, 0);
+}
+
+// Installs or removes the alpha filter to follow the mesh's material; true if it changed.
+bool follow_material(TriangleGeometry& g, const SceneModel& scene) {
+    const Mesh& mesh = scene.meshes[g.alpha->mesh];
+    const bool wanted = scene.materials[std::size_t(mesh.material)].alpha_tested();
+    if (wanted == g.filtered) return false;
+    g.filtered = wanted;
+    rtcSetGeometryIntersectFilterFunction(g.geom, wanted ? &alpha_filter : nullptr);
+    rtcSetGeometryOccludedFilterFunction(g.geom, wanted ? &alpha_filter : nullptr);
+    return true;
+}
+
 }  // namespace
 
+// Meshes placed once are baked into one scene in model space (one BVH over all of them: rays
+// traverse it as fast as a flat scene), placed by an identity instance; meshes placed several
+// times keep a scene of their own, instanced. A camera move within its recentring cell changes
+// nothing here; a moved instance re-bakes its triangles or moves its instance.
 struct EmbreeScene::Impl {
     RTCDevice device = nullptr;
     RTCScene top = nullptr;
-    std::vector<RTCScene> children;
-    std::vector<uint32_t> geometry_instance;  // top-level geomID -> SceneModel instance
-    std::vector<std::unique_ptr<AlphaGeometry>> alpha_geometries;  // filter user data
+    RTCScene baked = nullptr;
+    uint32_t baked_id = 0;                // the baked scene's instance in the top level
+    std::vector<TriangleGeometry> bakes;  // by SceneModel instance (geom null: not baked)
+    std::vector<SharedMesh> shared;       // by SceneModel mesh (scene null: not shared)
+    std::vector<RTCGeometry> placements;  // by SceneModel instance: its instance of a shared mesh
     std::mutex error_mutex;
     std::string first_error;  // first error wins (STYLE.md §5.4)
 
     ~Impl() {
-        for (RTCScene s : children)
-            rtcReleaseScene(s);
+        for (SharedMesh& m : shared)
+            if (m.scene) rtcReleaseScene(m.scene);
+        if (baked) rtcReleaseScene(baked);
         if (top) rtcReleaseScene(top);
         if (device) rtcReleaseDevice(device);
     }
@@ -81,76 +136,163 @@ struct EmbreeScene::Impl {
                 std::string(embree_error_name(code)) + ": " + (message ? message : "");
     }
 
-    RTCGeometry make_triangles(const SceneModel& scene, const Mesh& mesh, const Mat4* to_world) {
-        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                              mesh.positions.size()));
+    // A committed triangle geometry of mesh `index`, attached to `scene` as `id`.
+    void make_triangles(TriangleGeometry& g, const SceneModel& scene, uint32_t index,
+                        const Mat4* to_model, RTCScene into, uint32_t id) {
+        const Mesh& mesh = scene.meshes[index];
+        g.geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        g.vertex_count = 0;
+        write_positions(device, g, mesh, to_model);
         auto* idx = static_cast<uint32_t*>(
-            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+            rtcSetNewGeometryBuffer(g.geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(uint32_t), mesh.triangle_count()));
-        if (v == nullptr || idx == nullptr) return geom;
-        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-            // Exactly the arithmetic ShadingScene uses, so hits and shading agree.
-            const Vec3 p =
-                to_world ? transform_point(*to_world, mesh.positions[i]) : mesh.positions[i];
-            v[3 * i] = p.x;
-            v[3 * i + 1] = p.y;
-            v[3 * i + 2] = p.z;
-        }
-        std::copy(mesh.indices.begin(), mesh.indices.end(), idx);
-        if (scene.materials[std::size_t(mesh.material)].alpha_tested()) {
-            alpha_geometries.push_back(
-                std::make_unique<AlphaGeometry>(AlphaGeometry{&scene, &mesh}));
-            rtcSetGeometryUserData(geom, alpha_geometries.back().get());
-            rtcSetGeometryIntersectFilterFunction(geom, &alpha_filter);
-            rtcSetGeometryOccludedFilterFunction(geom, &alpha_filter);
-        }
-        rtcCommitGeometry(geom);
-        return geom;
+        if (idx) std::copy(mesh.indices.begin(), mesh.indices.end(), idx);
+        *g.alpha = AlphaGeometry{&scene, index};
+        rtcSetGeometryUserData(g.geom, g.alpha.get());
+        g.filtered = false;
+        follow_material(g, scene);
+        rtcCommitGeometry(g.geom);
+        rtcAttachGeometryByID(into, g.geom, id);
+        rtcReleaseGeometry(g.geom);  // the scene keeps it
     }
 
-    void attach(RTCGeometry geom, uint32_t instance) {
-        const uint32_t id = rtcAttachGeometry(top, geom);
-        rtcReleaseGeometry(geom);
-        if (geometry_instance.size() <= id) geometry_instance.resize(id + 1, 0);
-        geometry_instance[id] = instance;
+    // (Re)builds shared mesh `index`'s scene at high quality; its instances follow. A deformed
+    // mesh is built again, not refitted: Embree's refit representation (RTC_BUILD_QUALITY_REFIT
+    // in a low-quality scene) intersects with other arithmetic than a fresh build, so a tracer
+    // that refitted would render other bits than one that joined later (IncrementalUpdate.*).
+    void build_shared(const SceneModel& scene, uint32_t index) {
+        SharedMesh& m = shared[index];
+        if (m.scene) rtcReleaseScene(m.scene);
+        m.scene = rtcNewScene(device);
+        rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
+        make_triangles(m.tri, scene, index, nullptr, m.scene, 0);
+        rtcCommitScene(m.scene);
+        for (uint32_t i : m.users)
+            if (placements[i]) {
+                rtcSetGeometryInstancedScene(placements[i], m.scene);
+                rtcCommitGeometry(placements[i]);
+            }
+    }
+
+    void place(uint32_t i, const Instance& inst) {
+        rtcSetGeometryTransform(placements[i], 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
+                                &inst.transform[0][0]);
+        rtcCommitGeometry(placements[i]);
+    }
+
+    void attach_instance(RTCScene child, uint32_t id, const Mat4& transform, RTCGeometry* out) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, child);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transform[0][0]);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(top, g, id);
+        rtcReleaseGeometry(g);  // the top level keeps it
+        if (out) *out = g;
     }
 
     void build(const SceneModel& scene) {
+        const uint32_t count = uint32_t(scene.instances.size());
+        baked_id = count;
+        bakes.resize(count);
+        placements.assign(count, nullptr);
+        shared.resize(scene.meshes.size());
+        for (uint32_t i = 0; i < count; ++i)
+            if (scene.meshes[scene.instances[i].mesh].triangle_count() > 0)
+                shared[scene.instances[i].mesh].users.push_back(i);
+        // Without shared meshes the baked scene is the top level: an identity instance above it
+        // cost 5 % per ray on the Cornell box.
+        const bool any_shared = std::any_of(shared.begin(), shared.end(),
+                                            [](const SharedMesh& m) { return m.users.size() > 1; });
         top = rtcNewScene(device);
-        rtcSetSceneBuildQuality(top, RTC_BUILD_QUALITY_HIGH);
-        std::vector<int> uses(scene.meshes.size(), 0);
-        for (const Instance& inst : scene.instances)
-            ++uses[inst.mesh];
-        std::vector<RTCScene> mesh_scene(scene.meshes.size(), nullptr);
-        for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-            const Instance& inst = scene.instances[i];
-            const Mesh& mesh = scene.meshes[inst.mesh];
-            if (mesh.triangle_count() == 0) continue;
-            if (uses[inst.mesh] == 1) {
-                attach(make_triangles(scene, mesh, &inst.transform), i);
-                continue;
+        baked = any_shared ? rtcNewScene(device) : top;
+        if (baked == top) rtcRetainScene(top);  // released as `baked` and as `top`
+        rtcSetSceneBuildQuality(baked, RTC_BUILD_QUALITY_HIGH);
+        for (uint32_t i = 0; i < count; ++i) {
+            const uint32_t mesh = scene.instances[i].mesh;
+            if (shared[mesh].users.size() == 1) {
+                make_triangles(bakes[i], scene, mesh, &scene.instances[i].transform, baked, i);
+            } else if (!shared[mesh].users.empty()) {
+                if (!shared[mesh].scene) build_shared(scene, mesh);
+                attach_instance(shared[mesh].scene, i, scene.instances[i].transform,
+                                &placements[i]);
             }
-            if (mesh_scene[inst.mesh] == nullptr) {
-                RTCScene child = rtcNewScene(device);
-                rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
-                RTCGeometry geom = make_triangles(scene, mesh, nullptr);
-                rtcAttachGeometry(child, geom);
-                rtcReleaseGeometry(geom);
-                rtcCommitScene(child);
-                children.push_back(child);
-                mesh_scene[inst.mesh] = child;
-            }
-            RTCGeometry ig = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-            rtcSetGeometryInstancedScene(ig, mesh_scene[inst.mesh]);
-            rtcSetGeometryTransform(ig, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.transform[0][0]);
-            rtcCommitGeometry(ig);
-            attach(ig, i);
+        }
+        if (baked != top) {
+            rtcCommitScene(baked);
+            attach_instance(baked, baked_id, Mat4(1.0f), nullptr);
         }
         rtcCommitScene(top);
     }
+
+    bool is_baked(uint32_t instance) const { return bakes[instance].geom != nullptr; }
+
+    // New vertices for mesh `index`: re-baked if it is placed once (true), else its scene is
+    // built again (false).
+    bool deform(const SceneModel& scene, uint32_t index) {
+        SharedMesh& m = shared[index];
+        if (m.users.size() == 1 && is_baked(m.users[0])) {
+            TriangleGeometry& g = bakes[m.users[0]];
+            write_positions(device, g, scene.meshes[index], &scene.instances[m.users[0]].transform);
+            rtcCommitGeometry(g.geom);
+            return true;
+        }
+        build_shared(scene, index);
+        return false;
+    }
+
+    EmbreeUpdate update(const SceneModel& scene, const SceneChanges& changes);
 };
+
+EmbreeUpdate EmbreeScene::Impl::update(const SceneModel& scene, const SceneChanges& changes) {
+    EmbreeUpdate u;
+    bool rebake = false, top_dirty = false;
+    for (TriangleGeometry& g : bakes)
+        g.alpha->scene = &scene;
+    for (SharedMesh& m : shared)
+        m.tri.alpha->scene = &scene;
+    for (uint32_t index : changes.mesh_vertices) {
+        if (index >= shared.size() || shared[index].users.empty()) continue;
+        const bool rebaked = deform(scene, index);
+        (rebaked ? u.meshes_rebaked : u.meshes_rebuilt) += 1;
+        rebake |= rebaked;
+        top_dirty |= !rebaked;
+    }
+    for (uint32_t i : changes.instances) {
+        if (i >= bakes.size()) continue;
+        if (is_baked(i)) {
+            TriangleGeometry& g = bakes[i];
+            write_positions(device, g, scene.meshes[scene.instances[i].mesh],
+                            &scene.instances[i].transform);
+            rtcCommitGeometry(g.geom);
+            ++u.instances_rebaked;
+            rebake = true;
+        } else if (placements[i]) {
+            place(i, scene.instances[i]);
+            ++u.instances_placed;
+            top_dirty = true;
+        }
+    }
+    if (!changes.materials.empty()) {
+        for (TriangleGeometry& g : bakes)
+            if (g.geom && follow_material(g, scene)) {
+                rtcCommitGeometry(g.geom);
+                ++u.filters_changed;
+                rebake = true;
+            }
+        for (SharedMesh& m : shared)
+            if (m.scene && follow_material(m.tri, scene)) {
+                rtcCommitGeometry(m.tri.geom);
+                rtcCommitScene(m.scene);
+                ++u.filters_changed;
+                top_dirty = true;
+            }
+    }
+    if (rebake && baked != top) rtcCommitScene(baked);  // a full build of the baked BVH
+    u.baked_rebuilt = rebake;
+    if (rebake || top_dirty) rtcCommitScene(top);  // children's bounds or placements changed
+    u.top_committed = rebake || top_dirty;
+    return u;
+}
 
 EmbreeScene::EmbreeScene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 EmbreeScene::~EmbreeScene() = default;
@@ -168,6 +310,18 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const SceneModel& scene,
         return make_error(ErrorCode::backend_error, "embree: scene build failed: {}",
                           impl->first_error);
     return std::unique_ptr<EmbreeScene>(new EmbreeScene(std::move(impl)));
+}
+
+Result<EmbreeUpdate> EmbreeScene::update(const SceneModel& scene, const SceneChanges& changes) {
+    if (changes.structure || scene.instances.size() != impl_->bakes.size() ||
+        scene.meshes.size() != impl_->shared.size())
+        return make_error(ErrorCode::invalid_argument,
+                          "embree: a structural change needs a new scene, not an update");
+    const EmbreeUpdate u = impl_->update(scene, changes);
+    if (!impl_->first_error.empty())
+        return make_error(ErrorCode::backend_error, "embree: scene update failed: {}",
+                          impl_->first_error);
+    return u;
 }
 
 bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
@@ -190,10 +344,11 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->top, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    const uint32_t top_id =
-        rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
     hit.t = rh.ray.tfar;
-    hit.instance = impl_->geometry_instance[top_id];
+    // Baked triangles carry their instance's index as geometry ID, placements as instance ID.
+    const uint32_t placed = rh.hit.instID[0];
+    hit.instance =
+        placed == RTC_INVALID_GEOMETRY_ID || placed == impl_->baked_id ? rh.hit.geomID : placed;
     hit.prim = rh.hit.primID;
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;

@@ -132,14 +132,20 @@ TEST_F(FrameWorkerTest, TexturesCameraSettingsAndEnvironmentArriveAsSuch) {
     SceneChanges c = change(1, SetTexture{texture, state_.textures.at(texture)});
     EXPECT_EQ(c.textures, std::vector<uint32_t>{0});
     EXPECT_FALSE(c.structure);
+    // Recentring snaps to cells (scene_model.h): within its cell the camera moves alone.
+    const double cell = recentre_cell(world_bounds(make_default_scene()));
     Camera cam = state_.cameras.at(state_.active_camera);
-    cam.camera_to_world = glm::translate(cam.camera_to_world, Vec3(0.0f, 0.0f, 0.5f));
+    const glm::dvec3 centre = glm::floor(glm::dvec3(cam.camera_to_world[3]) / cell + 0.5) * cell;
+    cam.camera_to_world[3] = Vec4(Vec3(centre + 0.1 * cell), 1.0f);
     c = change(2, SetCamera{state_.active_camera, cam, true});
     EXPECT_TRUE(c.camera);
+    EXPECT_TRUE(c.instances.empty()) << "a move within the camera's cell moves no instance";
+    cam.camera_to_world[3].x += float(cell);  // into the next cell: every instance shifts
+    c = change(3, SetCamera{state_.active_camera, cam, true});
     EXPECT_EQ(c.instances.size(), backend_.instances) << "camera-relative: every instance moved";
-    c = change(3, SetSettings{RenderSettings{32, 16, 2, 3, 7}});
+    c = change(4, SetSettings{RenderSettings{32, 16, 2, 3, 7}});
     EXPECT_TRUE(c.settings && !c.camera && c.instances.empty());
-    c = change(4, SetEnvironment{Environment{}});
+    c = change(5, SetEnvironment{Environment{}});
     EXPECT_TRUE(c.environment && c.lights);
 }
 
