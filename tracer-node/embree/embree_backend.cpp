@@ -48,6 +48,12 @@ public:
     // refitted (EmbreeScene). A structural change builds anew.
     Status update_scene(const SceneModel& scene, const SceneChanges& changes) override {
         if (!kernel_ || changes.structure) return set_scene(scene);
+        // Only the camera (within its recentring cell) or the settings: the geometry, the
+        // light sampler and the closed-surface analysis all hold; culling follows the eye.
+        if (&scene == adopted_ && changes.instances.empty() && changes.mesh_vertices.empty() &&
+            changes.materials.empty() && changes.textures.empty() && !changes.lights &&
+            !changes.environment)
+            return {};
         const Timer timer;
         Result<EmbreeUpdate> u = Error{ErrorCode::backend_error, "embree: scene not updated"};
         arena_.execute([&] { u = kernel_->update(scene, changes); });
@@ -110,6 +116,7 @@ private:
     // The integrator's view of `scene`: normal matrices, the sealed-emitter analysis (adopted
     // when only the camera moved), the light sampler rebuilt at the next render.
     void adopt(const SceneModel& scene) {
+        adopted_ = &scene;
         lights_.reset();
         shading_ = std::make_unique<ShadingScene>(scene);
         culling_.set_scene(scene);
@@ -121,6 +128,7 @@ private:
     std::unique_ptr<ShadingScene> shading_;
     LightCulling culling_;
     std::unique_ptr<LightSampler> lights_;
+    const SceneModel* adopted_ = nullptr;  // the model shading_ refers to
 };
 
 }  // namespace
