@@ -121,27 +121,40 @@ public:
                     : (prefix[std::size_t(u1)] - prefix[std::size_t(u0)]) / in.last[i].render_ms;
         }
         smooth(speed);
-        const double total_speed = std::accumulate(speed.begin(), speed.end(), 0.0);
+        return ranges_from_units(cut_prefix(prefix, speed), in.height);
+    }
+
+private:
+    // Units per tracer, in row order: each tracer's share of the cost still to assign is in
+    // proportion to its speed; of the two unit boundaries around that share, the one that ends
+    // this tracer and the rest (at their total speed) sooner. The boundary nearest in cost
+    // instead gave a slow tracer a unit that cost it twice what it saved the fast one: live,
+    // 1.7 % idle against Perfect Smooth's 1.2 % on Sponza (docs/balancing.md).
+    static std::vector<int> cut_prefix(const std::vector<double>& prefix,
+                                       const std::vector<double>& speed) {
+        const int units = int(prefix.size()) - 1;
+        double rest_speed = std::accumulate(speed.begin(), speed.end(), 0.0);
         std::vector<int> counts;
         int begin = 0;
-        double target = 0.0;
         for (std::size_t i = 0; i + 1 < speed.size(); ++i) {
-            target += prefix.back() * speed[i] / total_speed;
-            // The cut whose cumulative cost is nearest the target, leaving a unit for the rest.
+            const double remaining = prefix.back() - prefix[std::size_t(begin)];
+            const double target = prefix[std::size_t(begin)] + remaining * speed[i] / rest_speed;
+            rest_speed -= speed[i];
+            const auto finish = [&](int c) {
+                return std::max((prefix[std::size_t(c)] - prefix[std::size_t(begin)]) / speed[i],
+                                (prefix.back() - prefix[std::size_t(c)]) / rest_speed);
+            };
             int cut = int(std::lower_bound(prefix.begin() + begin, prefix.end(), target) -
                           prefix.begin());
-            if (cut > begin &&
-                target - prefix[std::size_t(cut) - 1] < prefix[std::size_t(cut)] - target)
-                --cut;
+            if (cut > begin && finish(cut - 1) <= finish(cut)) --cut;
             cut = std::clamp(cut, begin, std::max(begin, units - int(speed.size() - 1 - i)));
             counts.push_back(cut - begin);
             begin = cut;
         }
         counts.push_back(units - begin);
-        return ranges_from_units(counts, in.height);
+        return counts;
     }
 
-private:
     // One frame's speed measurement is noisy (the split is cut on it); the tracers' speeds change
     // slowly, and a sudden change within a frame is the steal's to absorb.
     void smooth(std::vector<double>& speed) {

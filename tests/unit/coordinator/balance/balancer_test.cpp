@@ -104,6 +104,16 @@ TEST(Balancers, CostPredictivePrefersTheDeliveredCostRate) {
               (std::vector<RowRange>{{0, 8}, {8, 40}}));
 }
 
+TEST(Balancers, CostPredictiveCutsWhereBothFinishSoonest) {
+    // Ten units of cost 1; tracer 0 delivers 0.5625 per ms, tracer 1 1.0: its share is 3.6
+    // units. Four units end it at 7.1 ms (the rest at 6); three at 5.3 (the rest at 7): the
+    // nearest boundary in cost (4) ends the frame later.
+    BalanceInput in{
+        40, {{{0, 20}, 1.0, 0.5625}, {{20, 40}, 1.0, 1.0}}, std::vector<double>(10, 1.0)};
+    EXPECT_EQ(make_balancer("cost-predictive")->assign(in),
+              (std::vector<RowRange>{{0, 12}, {12, 40}}));
+}
+
 TEST(Balancers, UnknownNameIsNull) { EXPECT_EQ(make_balancer("magic"), nullptr); }
 
 }  // namespace
