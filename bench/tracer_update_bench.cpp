@@ -45,16 +45,12 @@ std::unique_ptr<tracer::RenderBackend> embree() {
 
 void run(const char* name, const Sequence& sequence, int frames) {
     auto updated = embree(), rebuilt = embree();
-    SceneModel previous, current, whole;
+    tracer::SceneStepper steps;
+    SceneModel whole;
     std::vector<double> update_ms, rebuild_ms;
     for (int f = 0; f < frames; ++f) {
-        SceneModel next = sequence(f);
-        tracer::SceneChanges changes =
-            f == 0 ? tracer::SceneChanges::everything() : tracer::diff_scenes(previous, next);
-        previous = next;
-        const glm::dvec3 origin = current.origin;
-        current = std::move(next);
-        tracer::recentre_for_backend(current, origin, changes);
+        const tracer::SceneChanges changes = steps.step(sequence(f));
+        const SceneModel& current = steps.scene();
         whole = current;
         const auto timed = [](auto&& call) {
             const Timer t;
@@ -78,7 +74,7 @@ void run(const char* name, const Sequence& sequence, int frames) {
     }
     const double um = percentile(update_ms, 0.5), rm = percentile(rebuild_ms, 0.5);
     std::printf("%s,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f\n", name, update_ms.size(),
-                triangle_count(current), um, percentile(update_ms, 0.95), rm,
+                triangle_count(steps.scene()), um, percentile(update_ms, 0.95), rm,
                 percentile(rebuild_ms, 0.95), percentile(update_ms, 1.0), rm / std::max(um, 1e-3));
     std::fflush(stdout);
 }

@@ -41,17 +41,12 @@ std::vector<float> render_rows(tracer::RenderBackend& backend, const SceneModel&
 void expect_updates_match_rebuilds(const Sequence& sequence, int frames, BackendKind kind) {
     auto updated = tracer::create_backend(kind, tracer::BackendOptions{2, 0, 0});
     ASSERT_TRUE(updated.ok()) << updated.error().message;
-    SceneModel previous, current;  // `current` is the model the updated backend refers to
+    tracer::SceneStepper steps;  // its scene() is the model the updated backend refers to
     for (int f = 0; f < frames; ++f) {
-        SceneModel next = sequence(f);
-        tracer::SceneChanges changes =
-            f == 0 ? tracer::SceneChanges::everything() : tracer::diff_scenes(previous, next);
-        previous = next;
-        const glm::dvec3 origin = current.origin;
-        current = std::move(next);
-        tracer::recentre_for_backend(current, origin, changes);
+        const tracer::SceneChanges changes = steps.step(sequence(f));
+        const SceneModel& current = steps.scene();
         ASSERT_TRUE((*updated)->update_scene(current, changes).ok()) << "frame " << f;
-        SceneModel fresh_scene = previous;
+        SceneModel fresh_scene = steps.world();
         recentre_on_camera(fresh_scene, fresh_scene.cameras.at(0));
         auto fresh = tracer::create_backend(kind, tracer::BackendOptions{2, 0, 0});
         ASSERT_TRUE(fresh.ok());

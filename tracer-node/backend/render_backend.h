@@ -58,6 +58,20 @@ struct SceneChanges {
 // commit): instances whose transform differs, meshes whose positions differ, and the camera.
 SceneChanges diff_scenes(const SceneModel& before, const SceneModel& after);
 
+// A sequence of world-space scenes as a tracer's backend sees them, for tools, tests and
+// benchmarks: each step diffs against the previous scene and recentres, as the tracer does.
+class SceneStepper {
+public:
+    // The change set that takes the backend from the last scene() to the new one.
+    SceneChanges step(SceneModel world);
+    const SceneModel& scene() const { return current_; }  // camera-relative: hand this over
+    const SceneModel& world() const { return previous_; }
+
+private:
+    SceneModel previous_, current_;
+    bool started_ = false;
+};
+
 // Camera-relative rendering for a backend (scene_model.h): recentres `scene` (in world space)
 // on its first camera; when the origin left `previous_origin`'s cell, every instance moved.
 void recentre_for_backend(SceneModel& scene, const glm::dvec3& previous_origin,

@@ -34,6 +34,16 @@ void recentre_for_backend(SceneModel& scene, const glm::dvec3& previous_origin,
         changes.instances[i] = i;
 }
 
+SceneChanges SceneStepper::step(SceneModel world) {
+    SceneChanges changes = started_ ? diff_scenes(previous_, world) : SceneChanges::everything();
+    started_ = true;
+    previous_ = world;
+    const glm::dvec3 origin = current_.origin;
+    current_ = std::move(world);
+    recentre_for_backend(current_, origin, changes);
+    return changes;
+}
+
 bool SceneChanges::empty() const {
     return !structure && instances.empty() && mesh_vertices.empty() && materials.empty() &&
            textures.empty() && !lights && !camera && !settings && !environment;
