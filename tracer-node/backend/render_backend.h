@@ -52,6 +52,13 @@ struct SceneChanges {
 
     static SceneChanges everything();
     bool empty() const;
+    // Only the camera (within its recentring cell) or the render settings changed: the
+    // geometry, materials and lights a backend holds are what they were. (Inline: the backend
+    // libraries use it and sit below this one's library.)
+    bool view_only() const {
+        return !structure && instances.empty() && mesh_vertices.empty() && materials.empty() &&
+               textures.empty() && !lights && !environment;
+    }
 };
 
 // What differs between two scenes with the same objects (a tool's or a test's view of a

@@ -50,10 +50,7 @@ public:
         if (!kernel_ || changes.structure) return set_scene(scene);
         // Only the camera (within its recentring cell) or the settings: the geometry, the
         // light sampler and the closed-surface analysis all hold; culling follows the eye.
-        if (&scene == adopted_ && changes.instances.empty() && changes.mesh_vertices.empty() &&
-            changes.materials.empty() && changes.textures.empty() && !changes.lights &&
-            !changes.environment)
-            return {};
+        if (&scene == adopted_ && changes.view_only()) return {};
         const Timer timer;
         Result<EmbreeUpdate> u = Error{ErrorCode::backend_error, "embree: scene not updated"};
         arena_.execute([&] { u = kernel_->update(scene, changes); });

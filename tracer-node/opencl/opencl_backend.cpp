@@ -78,6 +78,18 @@ const UploadStats& OpenClBackend::last_upload() const { return impl_->upload; }
 std::size_t OpenClBackend::meshes_with_own_bvh() const { return impl_->own_bvhs; }
 std::string OpenClBackend::device_name() const { return impl_->shared->name; }
 
+Status OpenClBackend::update_scene(const SceneModel& scene, const SceneChanges& changes) {
+    Impl& d = *impl_;
+    if (d.has_scene && d.scene == &scene && changes.view_only()) {
+        // The packed scene would be the same bytes (the camera goes with each frame's
+        // parameters; culling follows the eye at render): skip packing and diffing.
+        d.provided_bvhs.clear();
+        d.upload = {};
+        return {};
+    }
+    return set_scene(scene);
+}
+
 Status OpenClBackend::set_scene(const SceneModel& scene) {
     Impl& d = *impl_;
     const Timer timer;

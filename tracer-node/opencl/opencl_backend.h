@@ -25,6 +25,8 @@ public:
     bool wants_bvh_nodes() const override { return true; }
     void provide_mesh_bvhs(std::vector<MeshBvhView> bvhs) override;
     Status set_scene(const SceneModel& scene) override;
+    // Re-packs and diff-uploads the scene, except when only the view changed (nothing to do).
+    Status update_scene(const SceneModel& scene, const SceneChanges& changes) override;
     Result<RenderStats> render_rows(const RenderJob& job, float* out) override;
 
     const UploadStats& last_upload() const;
