@@ -2,11 +2,11 @@
 // renders row ranges with a TBB task arena limited to the configured thread count.
 #include "tracer-node/embree/embree_backend.h"
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 
 #include <spdlog/spdlog.h>
-#include <tbb/blocked_range2d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -19,7 +19,12 @@
 namespace pathfarm::tracer {
 namespace {
 
-constexpr int kTileSize = 16;
+// Blocks of 4 rows by 8 pixels handed out in row order from one counter, so the threads end a
+// range within one small block of each other. TBB's split of 16x16 tiles left a thread idle
+// for about half a tile at the end of every 4-row unit the tracer renders (the farm of one
+// tracer with 2 threads lost 4-6 % against pathfarm-render).
+constexpr int kBlockRows = 4;
+constexpr int kBlockCols = 8;
 
 class EmbreeBackend final : public RenderBackend {
 public:
@@ -91,16 +96,20 @@ public:
         tbb::enumerable_thread_specific<SampleCounters> counters;
         const Timer timer;
         const std::size_t stride = std::size_t(f.width) * 3;
+        const int cols = (f.width + kBlockCols - 1) / kBlockCols;
+        const int blocks = cols * ((job.y1 - job.y0 + kBlockRows - 1) / kBlockRows);
+        std::atomic<int> next{0};
         arena_.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range2d<int>(job.y0, job.y1, kTileSize, 0, f.width, kTileSize),
-                [&](const tbb::blocked_range2d<int>& r) {
-                    float* dst = out + std::size_t(r.rows().begin() - job.y0) * stride +
-                                 3 * r.cols().begin();
-                    render_block(tracer, f, r.cols().begin(), r.cols().end(), r.rows().begin(),
-                                 r.rows().end(), dst, stride, counters.local());
-                },
-                tbb::simple_partitioner());
+            tbb::parallel_for(0, arena_.max_concurrency(), [&](int) {
+                SampleCounters& c = counters.local();
+                for (int b = next++; b < blocks; b = next++) {
+                    const int y = job.y0 + (b / cols) * kBlockRows, x = (b % cols) * kBlockCols;
+                    render_block(tracer, f, x, std::min(f.width, x + kBlockCols), y,
+                                 std::min(job.y1, y + kBlockRows),
+                                 out + std::size_t(y - job.y0) * stride + 3 * std::size_t(x),
+                                 stride, c);
+                }
+            });
         });
         RenderStats stats;
         stats.seconds = timer.seconds();

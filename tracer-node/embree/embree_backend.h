@@ -1,5 +1,5 @@
 // The Embree CPU backend: EmbreeScene for rays, the shared integrator for shading, TBB for
-// threads (tiles of 16x16 pixels).
+// threads (blocks of 4x8 pixels handed out in row order).
 #pragma once
 
 #include <memory>
