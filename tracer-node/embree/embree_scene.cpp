@@ -78,7 +78,7 @@ struct SharedMesh {
 // Writes the mesh's positions into the geometry's vertex buffer (allocated when its size
 // changed), moved by `to_model` when given: exactly the arithmetic ShadingScene uses, so hits
 // and shading agree.
-void write_positions(RTCDevice, TriangleGeometry& g, const Mesh& mesh, const Mat4* to_model) {
+void write_positions(TriangleGeometry& g, const Mesh& mesh, const Mat4* to_model) {
     if (g.vertex_count != mesh.positions.size()) {
         rtcSetNewGeometryBuffer(g.geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                 3 * sizeof(float), mesh.positions.size());
@@ -108,10 +108,11 @@ bool follow_material(TriangleGeometry& g, const SceneModel& scene) {
 
 }  // namespace
 
-// Meshes placed once are baked into one scene in model space (one BVH over all of them: rays
-// traverse it as fast as a flat scene), placed by an identity instance; meshes placed several
-// times keep a scene of their own, instanced. A camera move within its recentring cell changes
-// nothing here; a moved instance re-bakes its triangles or moves its instance.
+// Meshes placed once are baked in model space into one BVH (rays traverse it as fast as a flat
+// scene): the top level itself, or, with shared meshes and over kFlatTopTriangles, a scene of
+// its own under an identity instance. Meshes placed several times keep a scene of their own,
+// instanced. A camera move within its recentring cell changes nothing here; a moved instance
+// re-bakes its triangles or moves its instance.
 struct EmbreeScene::Impl {
     RTCDevice device = nullptr;
     RTCScene top = nullptr;
@@ -145,7 +146,7 @@ struct EmbreeScene::Impl {
         const Mesh& mesh = scene.meshes[index];
         g.geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         g.vertex_count = 0;
-        write_positions(device, g, mesh, to_model);
+        write_positions(g, mesh, to_model);
         auto* idx = static_cast<uint32_t*>(
             rtcSetNewGeometryBuffer(g.geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(uint32_t), mesh.triangle_count()));
@@ -242,7 +243,7 @@ struct EmbreeScene::Impl {
         SharedMesh& m = shared[index];
         if (m.users.size() == 1 && is_baked(m.users[0])) {
             TriangleGeometry& g = bakes[m.users[0]];
-            write_positions(device, g, scene.meshes[index], &scene.instances[m.users[0]].transform);
+            write_positions(g, scene.meshes[index], &scene.instances[m.users[0]].transform);
             rtcCommitGeometry(g.geom);
             return true;
         }
@@ -271,7 +272,7 @@ EmbreeUpdate EmbreeScene::Impl::update(const SceneModel& scene, const SceneChang
         if (i >= bakes.size()) continue;
         if (is_baked(i)) {
             TriangleGeometry& g = bakes[i];
-            write_positions(device, g, scene.meshes[scene.instances[i].mesh],
+            write_positions(g, scene.meshes[scene.instances[i].mesh],
                             &scene.instances[i].transform);
             rtcCommitGeometry(g.geom);
             ++u.instances_rebaked;
