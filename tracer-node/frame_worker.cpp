@@ -79,15 +79,35 @@ Status FrameWorker::render(const wire::Assignment& a) {
 
 Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y0, int y1) {
     std::vector<float> rgb(std::size_t(y1 - y0) * a.width * 3);
-    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y1), {}, 0, 0.0, {}, {}};
+    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y0), {}, 0, 0.0, {}, {}};
     const Timer tile_timer;
     const double slowdown = frame_slowdown(options_, a.frame);
-    for (int y = y0; y < y1; y += kRowsPerWorkUnit) {        // one work unit at a time, timed
-        if (control_.newest_commit() > a.commit) return {};  // the frame closed meanwhile
-        if (control_.truncated(a, uint32_t(y))) {            // send what is done, not the rest
-            y1 = y;
-            break;
+    // A slowed-down tracer keeps the unit loop: its emulated slowness is spread over units, as
+    // a slower machine's would be, and it reacts to a truncation at the next unit.
+    const Status s = backend_.times_units() && slowdown <= 1.0
+                         ? render_tile_at_once(a, job, y0, y1, rgb, tile)
+                         : render_tile_by_units(a, job, y0, y1, slowdown, rgb, tile);
+    if (!s) return s;
+    if (tile.y1 == uint32_t(y0)) return {};  // nothing of it is wanted any more
+    rgb.resize(std::size_t(tile.y1 - tile.y0) * a.width * 3);
+    tile.raw_bytes = uint32_t(rgb.size() * sizeof(float));
+    tile.rgb_zstd = compress_floats(rgb.data(), rgb.size());
+    tile.render_ms = tile_timer.milliseconds();
+    send_(wire::encode_tile(tile));
+    return {};
+}
+
+// One call per unit, each timed; stops between units when the rows went elsewhere (tile.y1
+// ends there) or the frame closed (nothing is sent).
+Status FrameWorker::render_tile_by_units(const wire::Assignment& a, RenderJob& job, int y0, int y1,
+                                         double slowdown, std::vector<float>& rgb,
+                                         wire::Tile& tile) {
+    for (int y = y0; y < y1; y += kRowsPerWorkUnit) {
+        if (control_.newest_commit() > a.commit) {  // the frame closed meanwhile
+            tile.y1 = uint32_t(y0);
+            return {};
         }
+        if (control_.truncated(a, uint32_t(y))) return {};  // send what is done, not the rest
         job.y0 = y;
         job.y1 = std::min(y1, y + kRowsPerWorkUnit);
         const Timer unit;
@@ -98,14 +118,33 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
             std::this_thread::sleep_for(std::chrono::duration<double>((slowdown - 1.0) * unit_s));
         tile.unit_cost_us.push_back(uint32_t(unit_s * 1e6));
         tile.unit_rays.push_back(stats->counters.rays);
+        tile.y1 = uint32_t(job.y1);
     }
-    if (y1 == y0) return {};
-    rgb.resize(std::size_t(y1 - y0) * a.width * 3);
-    tile.y1 = uint32_t(y1);
-    tile.raw_bytes = uint32_t(rgb.size() * sizeof(float));
-    tile.rgb_zstd = compress_floats(rgb.data(), rgb.size());
-    tile.render_ms = tile_timer.milliseconds();
-    send_(wire::encode_tile(tile));
+    return {};
+}
+
+// The whole tile in one parallel call (RenderBackend::times_units): the threads meet once per
+// tile instead of once per unit. Units the stop check left out, and any after them, are not
+// sent; tile.y1 ends at the first of them.
+Status FrameWorker::render_tile_at_once(const wire::Assignment& a, RenderJob& job, int y0, int y1,
+                                        std::vector<float>& rgb, wire::Tile& tile) {
+    job.y0 = y0;
+    job.y1 = y1;
+    job.stop = [&](int unit_y0) {
+        return control_.newest_commit() > a.commit || control_.truncated(a, uint32_t(unit_y0));
+    };
+    auto stats = backend_.render_rows(job, rgb.data());
+    job.stop = nullptr;
+    if (!stats) return stats.error();
+    if (control_.newest_commit() > a.commit) return {};  // the frame closed: send nothing
+    int end = y0;
+    for (const UnitStats& u : stats->units) {
+        if (!u.rendered || end >= y1) break;
+        tile.unit_cost_us.push_back(uint32_t(u.seconds * 1e6));
+        tile.unit_rays.push_back(u.rays);
+        end = std::min(y1, end + kRowsPerWorkUnit);
+    }
+    tile.y1 = uint32_t(end);
     return {};
 }
 

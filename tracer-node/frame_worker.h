@@ -1,8 +1,8 @@
 // The tracer's work on one connection (DESIGN.md, "The frame" step 5): keeps a replica in step
 // with the coordinator's commits, hands the backend the scene and what changed, renders the
-// rows it is assigned one 4-row unit at a time (each timed for the balancer) and sends them as
-// tiles. No sockets: messages come in decoded, tiles go out through a callback, so tests drive
-// it directly.
+// rows it is assigned in tiles, each 4-row unit timed for the balancer (in one parallel call
+// per tile where the backend times units itself, else one call per unit), and sends them. No
+// sockets: messages come in decoded, tiles go out through a callback, so tests drive it directly.
 #pragma once
 
 #include <functional>
@@ -36,6 +36,10 @@ private:
     Status render(const wire::Assignment& a);
     Status update_backend();
     Status render_tile(const wire::Assignment& a, RenderJob& job, int y0, int y1);
+    Status render_tile_at_once(const wire::Assignment& a, RenderJob& job, int y0, int y1,
+                               std::vector<float>& rgb, wire::Tile& tile);
+    Status render_tile_by_units(const wire::Assignment& a, RenderJob& job, int y0, int y1,
+                                double slowdown, std::vector<float>& rgb, wire::Tile& tile);
     std::vector<MeshBvhView> mesh_bvhs() const;
 
     const TracerOptions& options_;

@@ -29,7 +29,7 @@ FrameSpec frame_spec(const SceneModel& scene, int f) {
 }
 
 std::vector<float> render_rows(tracer::RenderBackend& backend, const SceneModel& scene, int f) {
-    tracer::RenderJob job{frame_spec(scene, f), IntegratorSettings{}, 0, 24};
+    tracer::RenderJob job{frame_spec(scene, f), IntegratorSettings{}, 0, 24, {}};
     std::vector<float> rgb(24 * 24 * 3);
     auto stats = backend.render_rows(job, rgb.data());
     EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);

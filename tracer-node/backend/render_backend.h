@@ -3,6 +3,7 @@
 // range [y0, y1) of a frame; the result is the same for every split (docs/determinism.md).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,11 +21,23 @@ struct RenderJob {
     IntegratorSettings integrator;
     int y0 = 0;  // rows [y0, y1) of the frame
     int y1 = 0;
+    // Backends that time units (RenderBackend::times_units) ask this before each piece of work
+    // with the first row of its work unit: true leaves that unit and every later one unrendered
+    // (the rows went to another tracer, or the frame closed). Empty: render everything.
+    std::function<bool(int unit_y0)> stop;
+};
+
+// One work unit (kRowsPerWorkUnit rows from RenderJob::y0) of a range rendered in one call.
+struct UnitStats {
+    double seconds = 0.0;  // thread time spent on it (its cost; summed over threads)
+    uint64_t rays = 0;
+    bool rendered = false;  // every pixel of it (false: stopped before or during it)
 };
 
 struct RenderStats {
     double seconds = 0.0;
     SampleCounters counters;
+    std::vector<UnitStats> units;  // filled by backends that time units, else empty
 };
 
 // A mesh's BVH as the coordinator built it (common/scene/bvh.h layout), for backends that
@@ -103,6 +116,10 @@ public:
     }
     // Renders rows [job.y0, job.y1) into out: (y1 - y0) rows of width * 3 floats, top row first.
     virtual Result<RenderStats> render_rows(const RenderJob& job, float* out) = 0;
+    // Whether render_rows times each work unit of a longer range (RenderStats::units) and
+    // honours RenderJob::stop, so a tracer can render a whole tile in one parallel call instead
+    // of one call per unit (whose threads meet at every unit's end).
+    virtual bool times_units() const { return false; }
 };
 
 enum class BackendKind { embree, opencl };

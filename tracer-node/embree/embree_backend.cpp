@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -12,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include "common/base/timer.h"
+#include "common/base/work_unit.h"
 #include "common/math/transform.h"
 #include "common/render/sealed_emitters.h"
 #include "tracer-node/embree/embree_scene.h"
@@ -25,6 +27,13 @@ namespace {
 // tracer with 2 threads lost 4-6 % against pathfarm-render).
 constexpr int kBlockRows = 4;
 constexpr int kBlockCols = 8;
+
+// Lowers `a` to v unless it is lower already.
+void lower_to(std::atomic<int>& a, int v) {
+    int current = a;
+    while (v < current && !a.compare_exchange_weak(current, v)) {
+    }
+}
 
 class EmbreeBackend final : public RenderBackend {
 public:
@@ -95,19 +104,21 @@ public:
         const PathTracer tracer(*shading_, *lights_, *kernel_, job.integrator);
         tbb::enumerable_thread_specific<SampleCounters> counters;
         const Timer timer;
-        const std::size_t stride = std::size_t(f.width) * 3;
         const int cols = (f.width + kBlockCols - 1) / kBlockCols;
-        const int blocks = cols * ((job.y1 - job.y0 + kBlockRows - 1) / kBlockRows);
-        std::atomic<int> next{0};
+        const int bands = (job.y1 - job.y0 + kBlockRows - 1) / kBlockRows;  // = work units
+        std::vector<UnitTally> tally(static_cast<std::size_t>(bands));
+        std::atomic<int> next{0}, stopped_at{bands};
         arena_.execute([&] {
             tbb::parallel_for(0, arena_.max_concurrency(), [&](int) {
                 SampleCounters& c = counters.local();
-                for (int b = next++; b < blocks; b = next++) {
-                    const int y = job.y0 + (b / cols) * kBlockRows, x = (b % cols) * kBlockCols;
-                    render_block(tracer, f, x, std::min(f.width, x + kBlockCols), y,
-                                 std::min(job.y1, y + kBlockRows),
-                                 out + std::size_t(y - job.y0) * stride + 3 * std::size_t(x),
-                                 stride, c);
+                for (int b = next++; b < cols * bands; b = next++) {
+                    const int band = b / cols;
+                    if (band >= stopped_at) break;
+                    if (job.stop && job.stop(job.y0 + band * kBlockRows)) {  // later ones too
+                        lower_to(stopped_at, band);
+                        break;
+                    }
+                    render_unit_block(tracer, job, b % cols * kBlockCols, band, out, tally, c);
                 }
             });
         });
@@ -115,10 +126,43 @@ public:
         stats.seconds = timer.seconds();
         for (const SampleCounters& c : counters)
             stats.counters.add(c);
+        for (int u = 0; u < bands; ++u) {
+            const UnitTally& t = tally[std::size_t(u)];
+            stats.units.push_back(
+                {double(t.ns) * 1e-9, t.rays, u < stopped_at && t.blocks == cols});
+        }
         return stats;
     }
 
+    bool times_units() const override { return true; }
+
 private:
+    // What the threads add up for one work unit of a render_rows call.
+    struct UnitTally {
+        std::atomic<int64_t> ns{0};
+        std::atomic<uint64_t> rays{0};
+        std::atomic<int> blocks{0};
+    };
+    static_assert(kBlockRows == kRowsPerWorkUnit, "a band of blocks is one work unit");
+
+    // Renders the block at column x of band `band`, timed into that unit's tally.
+    static void render_unit_block(const PathTracer& tracer, const RenderJob& job, int x, int band,
+                                  float* out, std::vector<UnitTally>& tally, SampleCounters& c) {
+        const FrameSpec& f = job.frame;
+        const std::size_t stride = std::size_t(f.width) * 3;
+        const int y = job.y0 + band * kBlockRows;
+        SampleCounters block;
+        const Timer timer;
+        render_block(tracer, f, x, std::min(f.width, x + kBlockCols), y,
+                     std::min(job.y1, y + kBlockRows),
+                     out + std::size_t(y - job.y0) * stride + 3 * std::size_t(x), stride, block);
+        UnitTally& t = tally[std::size_t(band)];
+        t.ns += int64_t(timer.seconds() * 1e9);
+        t.rays += block.rays;
+        ++t.blocks;
+        c.add(block);
+    }
+
     // The integrator's view of `scene`: normal matrices, the sealed-emitter analysis (adopted
     // when only the camera moved), the light sampler rebuilt at the next render.
     void adopt(const SceneModel& scene) {
