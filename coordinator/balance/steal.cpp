@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/base/work_unit.h"
+#include "coordinator/balance/balancer.h"
 
 namespace pathfarm::coord {
 namespace {
@@ -37,8 +38,7 @@ Backlog backlog_of(const TracerProgress& t, double fallback_pace) {
     // The last gap's rows not reached yet begin this far from its end, on a unit boundary.
     const int left = int(std::floor(std::min(remaining_rows, double(b.stealable.rows()))));
     const int y0 = std::max(b.stealable.y0, b.stealable.y1 - left);
-    b.stealable.y0 =
-        std::min(b.stealable.y1, (y0 + kRowsPerWorkUnit - 1) / kRowsPerWorkUnit * kRowsPerWorkUnit);
+    b.stealable.y0 = std::min(b.stealable.y1, work_units(y0) * kRowsPerWorkUnit);
     return b;
 }
 

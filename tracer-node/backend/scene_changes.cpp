@@ -44,9 +44,6 @@ SceneChanges SceneStepper::step(SceneModel world) {
     return changes;
 }
 
-bool SceneChanges::empty() const {
-    return !structure && instances.empty() && mesh_vertices.empty() && materials.empty() &&
-           textures.empty() && !lights && !camera && !settings && !environment;
-}
+bool SceneChanges::empty() const { return view_only() && !camera && !settings; }
 
 }  // namespace pathfarm::tracer

@@ -209,10 +209,9 @@ struct EmbreeScene::Impl {
         // builtin:default); rebuilding takes about 0.3-0.8 us per triangle on two threads.
         std::size_t baked_triangles = 0;
         bool any_shared = false;
-        for (const SharedMesh& m : shared) {
-            any_shared |= m.users.size() > 1;
-            if (m.users.size() == 1)
-                baked_triangles += scene.meshes[scene.instances[m.users[0]].mesh].triangle_count();
+        for (std::size_t m = 0; m < shared.size(); ++m) {
+            any_shared |= shared[m].users.size() > 1;
+            if (shared[m].users.size() == 1) baked_triangles += scene.meshes[m].triangle_count();
         }
         top = rtcNewScene(device);
         baked = any_shared && baked_triangles > kFlatTopTriangles ? rtcNewScene(device) : top;
@@ -237,14 +236,19 @@ struct EmbreeScene::Impl {
 
     bool is_baked(uint32_t instance) const { return bakes[instance].geom != nullptr; }
 
+    // Writes baked instance i's triangles where its transform and mesh now put them.
+    void rebake_instance(const SceneModel& scene, uint32_t i) {
+        TriangleGeometry& g = bakes[i];
+        write_positions(g, scene.meshes[scene.instances[i].mesh], &scene.instances[i].transform);
+        rtcCommitGeometry(g.geom);
+    }
+
     // New vertices for mesh `index`: re-baked if it is placed once (true), else its scene is
     // built again (false).
     bool deform(const SceneModel& scene, uint32_t index) {
-        SharedMesh& m = shared[index];
+        const SharedMesh& m = shared[index];
         if (m.users.size() == 1 && is_baked(m.users[0])) {
-            TriangleGeometry& g = bakes[m.users[0]];
-            write_positions(g, scene.meshes[index], &scene.instances[m.users[0]].transform);
-            rtcCommitGeometry(g.geom);
+            rebake_instance(scene, m.users[0]);
             return true;
         }
         build_shared(scene, index);
@@ -271,10 +275,7 @@ EmbreeUpdate EmbreeScene::Impl::update(const SceneModel& scene, const SceneChang
     for (uint32_t i : changes.instances) {
         if (i >= bakes.size()) continue;
         if (is_baked(i)) {
-            TriangleGeometry& g = bakes[i];
-            write_positions(g, scene.meshes[scene.instances[i].mesh],
-                            &scene.instances[i].transform);
-            rtcCommitGeometry(g.geom);
+            rebake_instance(scene, i);
             ++u.instances_rebaked;
             rebake = true;
         } else if (placements[i]) {
@@ -287,21 +288,18 @@ EmbreeUpdate EmbreeScene::Impl::update(const SceneModel& scene, const SceneChang
         for (TriangleGeometry& g : bakes)
             if (g.geom && follow_material(g, scene)) {
                 rtcCommitGeometry(g.geom);
-                ++u.filters_changed;
                 rebake = true;
             }
         for (SharedMesh& m : shared)
             if (m.scene && follow_material(m.tri, scene)) {
                 rtcCommitGeometry(m.tri.geom);
                 rtcCommitScene(m.scene);
-                ++u.filters_changed;
                 top_dirty = true;
             }
     }
     if (rebake && baked != top) rtcCommitScene(baked);  // a full build of the baked BVH
     u.baked_rebuilt = rebake;
     if (rebake || top_dirty) rtcCommitScene(top);  // children's bounds or placements changed
-    u.top_committed = rebake || top_dirty;
     return u;
 }
 

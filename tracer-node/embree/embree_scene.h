@@ -27,9 +27,7 @@ struct EmbreeUpdate {
     int instances_rebaked = 0;   // instances of meshes placed once moved (their triangles)
     int meshes_rebaked = 0;      // meshes placed once deformed
     int meshes_rebuilt = 0;      // shared meshes deformed (their scene built again)
-    int filters_changed = 0;     // alpha testing switched on or off by a material edit
-    bool baked_rebuilt = false;  // the baked scene's BVH was built again
-    bool top_committed = false;
+    bool baked_rebuilt = false;  // the baked triangles' BVH was built again
 };
 
 class EmbreeScene final : public Intersector {
