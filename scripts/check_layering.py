@@ -15,7 +15,7 @@ ALLOWED = {
     "common/scene": ["common/base", "common/math"],
     "common/scene/load": ["common/base", "common/math", "common/scene", "common/film"],
     "common/commit": ["common/base", "common/math", "common/scene", "proto"],
-    "common/render": ["common/base", "common/math", "common/sampling", "common/scene"],
+    "common/render": ["common/base", "common/math", "common/sampling", "common/scene", "common/film"],
     "common/net": ["common/base", "proto"],
     "common/wire": ["common/base", "common/math", "common/scene", "common/commit", "common/net",
                     "proto"],

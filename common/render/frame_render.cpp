@@ -4,10 +4,12 @@
 namespace pathfarm {
 
 void render_block(const PathTracer& tracer, const FrameSpec& spec, int x0, int x1, int y0, int y1,
-                  float* out, std::size_t out_stride, SampleCounters& counters) {
+                  float* out, std::size_t out_stride, SampleCounters& counters, FirstHit* hits,
+                  std::size_t hits_stride) {
     const double inv_spp = 1.0 / double(std::max(spec.spp, 1));
     for (int y = y0; y < y1; ++y) {
         float* row = out + std::size_t(y - y0) * out_stride;
+        FirstHit* hit_row = hits ? hits + std::size_t(y - y0) * hits_stride : nullptr;
         for (int x = x0; x < x1; ++x) {
             glm::dvec3 sum(0.0);
             for (int s = spec.first_sample; s < spec.first_sample + spec.spp; ++s) {
@@ -15,7 +17,9 @@ void render_block(const PathTracer& tracer, const FrameSpec& spec, int x0, int x
                 const Vec2 jitter = sampler.next_2d();
                 const Ray ray = generate_camera_ray(spec.camera, spec.width, spec.height,
                                                     float(x) + jitter.x, float(y) + jitter.y);
-                sum += glm::dvec3(tracer.trace(ray, sampler, counters));
+                FirstHit* first =
+                    hit_row && s == spec.first_sample ? hit_row + (x - x0) : nullptr;
+                sum += glm::dvec3(tracer.trace(ray, sampler, counters, first));
             }
             float* p = row + 3 * (x - x0);
             p[0] = float(sum.x * inv_spp);

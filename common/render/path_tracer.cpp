@@ -156,9 +156,13 @@ Rgb PathTracer::emission_at(const PathState& s, const Hit& hit, const SurfacePoi
 // Russian roulette included); false when the path ends here.
 template <bool kTransmission>
 bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
-                         SampleCounters& counters) const {
+                         SampleCounters& counters, FirstHit* first) const {
     const Vec3 wo = -ray.d;
     const MaterialPoint mp = shading_.material_point(sp);
+    if (first) {  // the normal as the normal map bent it
+        first->normal = glm::dot(sp.ns, wo) < 0.0f ? -sp.ns : sp.ns;
+        first->albedo = mp.base_color;
+    }
     const Bsdf bsdf(mp);
     const Orientation o = orient(sp, wo, bsdf.transmissive());
     const Vec3 wo_local = o.frame.to_local(wo);
@@ -191,7 +195,8 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
 }
 
 template <uint32_t kFeatures>
-Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters,
+                           FirstHit* first) const {
     constexpr bool kEmitters = kFeatures & kFeatureEmitters;
     constexpr bool kEnvironment = kFeatures & kFeatureEnvironment;
     constexpr bool kTransmission = kFeatures & kFeatureTransmission;
@@ -204,6 +209,7 @@ Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& count
         const bool found = kernel_.intersect(ray, hit);
         const bool count_emission = s.counts_emission(settings_.strategy);
         if (!found) {
+            if (depth == 0 && first) *first = FirstHit{};
             if (kEnvironment && lights_.has_environment() && count_emission)
                 s.radiance += escaped(s, ray.d);
             break;
@@ -211,9 +217,14 @@ Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& count
         if (kTransmission && max_component(s.sigma_a) > 0.0f)
             s.beta *= glm::exp(-s.sigma_a * hit.t);
         SurfacePoint sp = shading_.surface(hit);
+        if (depth == 0 && first)
+            *first = FirstHit{hit.t, hit.instance, glm::dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns,
+                              Rgb(0.0f)};
         if (kEmitters && count_emission) s.radiance += emission_at(s, hit, sp, -ray.d);
         if (depth >= settings_.max_depth) break;
-        if (!scatter<kTransmission>(s, ray, sp, depth, sampler, counters)) break;
+        if (!scatter<kTransmission>(s, ray, sp, depth, sampler, counters,
+                                    depth == 0 ? first : nullptr))
+            break;
     }
     if (!is_finite(s.radiance)) {
         ++counters.nonfinite_samples;

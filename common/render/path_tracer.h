@@ -6,6 +6,7 @@
 
 #include <cstdint>
 
+#include "common/film/first_hits.h"
 #include "common/render/intersector.h"
 #include "common/render/light_sampler.h"
 #include "common/render/shading_scene.h"
@@ -58,15 +59,19 @@ public:
                const IntegratorSettings& settings);
 
     // Radiance along a camera ray. A non-finite estimate is counted and returned as zero.
-    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
-        return (this->*trace_)(ray, sampler, counters);
+    // `first`, when given, receives what the ray met first (its distance, instance, shading
+    // normal facing the ray and base colour): free, the path computes them anyway.
+    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters,
+              FirstHit* first = nullptr) const {
+        return (this->*trace_)(ray, sampler, counters, first);
     }
     uint32_t features() const { return features_; }  // of the loop in use
 
 private:
-    using TraceFn = Rgb (PathTracer::*)(Ray, PixelSampler&, SampleCounters&) const;
+    using TraceFn = Rgb (PathTracer::*)(Ray, PixelSampler&, SampleCounters&, FirstHit*) const;
     template <uint32_t kFeatures>
-    Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
+    Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters,
+                   FirstHit* first) const;
 
     // One light sample at sp; sigma_a is the absorption of the medium the path is in.
     Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
@@ -80,7 +85,7 @@ private:
                     const Vec3& wo) const;
     template <bool kTransmission>
     bool scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
-                 SampleCounters& counters) const;
+                 SampleCounters& counters, FirstHit* first) const;
 
     const ShadingScene& shading_;
     const LightSampler& lights_;

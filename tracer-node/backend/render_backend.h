@@ -25,6 +25,9 @@ struct RenderJob {
     // with the first row of its work unit: true leaves that unit and every later one unrendered
     // (the rows went to another tracer, or the frame closed). Empty: render everything.
     std::function<bool(int unit_y0)> stop;
+    // Where the first hits of rows [y0, y1) go ((y1 - y0) * width of them, row-major), or null
+    // when nobody wants them.
+    FirstHit* first_hits = nullptr;
 };
 
 // One work unit (kRowsPerWorkUnit rows from RenderJob::y0) of a range rendered in one call.

@@ -153,9 +153,10 @@ private:
         const int y = job.y0 + band * kBlockRows;
         SampleCounters block;
         const Timer timer;
+        const std::size_t pixel = std::size_t(y - job.y0) * f.width + x;
         render_block(tracer, f, x, std::min(f.width, x + kBlockCols), y,
-                     std::min(job.y1, y + kBlockRows),
-                     out + std::size_t(y - job.y0) * stride + 3 * std::size_t(x), stride, block);
+                     std::min(job.y1, y + kBlockRows), out + 3 * pixel, stride, block,
+                     job.first_hits ? job.first_hits + pixel : nullptr, std::size_t(f.width));
         UnitTally& t = tally[std::size_t(band)];
         t.ns += int64_t(timer.seconds() * 1e9);
         t.rays += block.rays;

@@ -167,7 +167,8 @@ typedef struct {
     pf_int strategy;  // PF_STRATEGY_*
     pf_int rr_start_depth;
     float rr_scale;
-    pf_uint pad[3];
+    pf_int first_hits;  // nonzero: write each pixel's first hit (common/film/first_hits.h)
+    pf_uint pad[2];
 } PfFrameParams;
 
 // The scene's device arrays in kernel argument order (after PfFrameParams, before the

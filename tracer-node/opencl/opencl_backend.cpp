@@ -38,7 +38,7 @@ struct OpenClBackend::Impl {
 #undef PF_DEVICE_ARRAY
     DeviceArray globals;
     std::map<uint32_t, cl::Kernel> kernels;  // by variant
-    cl::Buffer out, counters;
+    cl::Buffer out, counters, first_hits;
     std::size_t out_capacity = 0;
     std::vector<uint32_t> counter_host;
 
@@ -64,7 +64,8 @@ struct OpenClBackend::Impl {
 
     Status reserve_output(std::size_t pixels);
     Status set_arguments(cl::Kernel& k, const PfFrameParams& fp);
-    Result<SampleCounters> launch(cl::Kernel& k, int width, std::size_t rows, float* pixels_out);
+    Result<SampleCounters> launch(cl::Kernel& k, int width, std::size_t rows, float* pixels_out,
+                                  FirstHit* hits_out);
 };
 
 OpenClBackend::OpenClBackend(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -142,6 +143,7 @@ PfFrameParams frame_params(const RenderJob& job) {
     fp.strategy = int(job.integrator.strategy);
     fp.rr_start_depth = job.integrator.rr_start_depth;
     fp.rr_scale = job.integrator.rr_scale;
+    fp.first_hits = job.first_hits != nullptr;
     return fp;
 }
 
@@ -156,6 +158,9 @@ Status OpenClBackend::Impl::reserve_output(std::size_t pixels) {
     counters = cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * 2 * sizeof(uint32_t),
                           nullptr, &err);
     if (err != CL_SUCCESS) return cl_failure("allocating the counters", err);
+    first_hits = cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * sizeof(FirstHit), nullptr,
+                            &err);
+    if (err != CL_SUCCESS) return cl_failure("allocating the first hits", err);
     out_capacity = pixels;
     return {};
 }
@@ -169,13 +174,15 @@ Status OpenClBackend::Impl::set_arguments(cl::Kernel& k, const PfFrameParams& fp
 #undef PF_ARRAY_ARG
     if (err == CL_SUCCESS) err = k.setArg(arg++, out);
     if (err == CL_SUCCESS) err = k.setArg(arg++, counters);
+    if (err == CL_SUCCESS) err = k.setArg(arg++, first_hits);
     if (err != CL_SUCCESS) return cl_failure("setting kernel arguments", err);
     return {};
 }
 
-// Launches the kernel over width x rows pixels and reads back the colours and counters.
+// Launches the kernel over width x rows pixels and reads back the colours, the counters and,
+// when wanted, the first hits.
 Result<SampleCounters> OpenClBackend::Impl::launch(cl::Kernel& k, int width, std::size_t rows,
-                                                   float* pixels_out) {
+                                                   float* pixels_out, FirstHit* hits_out) {
     // A fixed work-group size: PoCL compiles a work-group function per local size, so leaving
     // the choice to the driver compiled again (0.9 s) for every new image width, a stall each
     // time workload scaling changes the resolution; 8x1 measured as fast as the driver's choice.
@@ -187,6 +194,10 @@ Result<SampleCounters> OpenClBackend::Impl::launch(cl::Kernel& k, int width, std
     if (err != CL_SUCCESS) return cl_failure("launching pf_render_rows", err);
     err = queue.enqueueReadBuffer(out, CL_TRUE, 0, pixels * 3 * sizeof(float), pixels_out);
     if (err != CL_SUCCESS) return cl_failure("reading the rendered rows", err);
+    if (hits_out) {
+        err = queue.enqueueReadBuffer(first_hits, CL_TRUE, 0, pixels * sizeof(FirstHit), hits_out);
+        if (err != CL_SUCCESS) return cl_failure("reading the first hits", err);
+    }
     counter_host.resize(pixels * 2);
     err = queue.enqueueReadBuffer(counters, CL_TRUE, 0, pixels * 2 * sizeof(uint32_t),
                                   counter_host.data());
@@ -219,7 +230,7 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
     if (Status s = d.reserve_output(rows * std::size_t(f.width)); !s) return s.error();
     const PfFrameParams fp = frame_params(job);
     if (Status s = d.set_arguments(*kernel, fp); !s) return s.error();
-    auto counters = d.launch(*kernel, f.width, rows, out);
+    auto counters = d.launch(*kernel, f.width, rows, out, job.first_hits);
     if (!counters) return counters.error();
     stats.counters = *counters;
     stats.counters.camera_samples = uint64_t(rows) * uint64_t(f.width) * uint64_t(fp.spp);

@@ -84,9 +84,19 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurfa
     return f * transmittance * ls.radiance * (weight / pdf_light);
 }
 
-// Radiance along a camera ray; a non-finite estimate is counted and returned as zero.
+// What a camera ray met first, in FirstHit's 8 words (common/film/first_hits.h): distance,
+// instance, shading normal facing the ray, base colour.
+void pf_first_hit(float* first, float t, uint instance, float3 n, float3 albedo) {
+    first[0] = t;
+    first[1] = as_float(instance);
+    first[2] = n.x, first[3] = n.y, first[4] = n.z;
+    first[5] = albedo.x, first[6] = albedo.y, first[7] = albedo.z;
+}
+
+// Radiance along a camera ray; a non-finite estimate is counted and returned as zero. `first`
+// receives the first hit (8 words).
 float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSampler* sampler,
-                     uint* rays, uint* nonfinite) {
+                     uint* rays, uint* nonfinite, float* first) {
     float3 radiance = (float3)(0.0f);
     float3 beta = (float3)(1.0f);
     float3 sigma_a = (float3)(0.0f);
@@ -99,6 +109,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         const bool found = pf_trace(s, ray, &hit, false);
         const bool count_emission = delta_bounce || fp->strategy != PF_STRATEGY_LIGHT_ONLY;
         if (!found) {
+            if (depth == 0) pf_first_hit(first, PF_INFINITY, 0xffffffffu, (float3)(0.0f), (float3)(0.0f));
             if (PF_ENVIRONMENT && s->globals->has_environment && count_emission) {
                 const float3 le = pf_environment_radiance(s->globals, ray.d);
                 const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
@@ -112,6 +123,8 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
 
         PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
         const float3 wo = -ray.d;
+        if (depth == 0)
+            pf_first_hit(first, hit.t, hit.instance, dot(sp.ns, wo) < 0.0f ? -sp.ns : sp.ns, (float3)(0.0f));
         if (PF_EMITTERS && count_emission) {
             const float3 le = pf_emitted(s, &sp, wo);
             if (pf_max3(le) > 0.0f) {
@@ -124,6 +137,8 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (depth >= fp->max_depth) break;
 
         const PfMaterialPoint mp = pf_material_point(s, &sp);
+        if (depth == 0)  // the normal as the normal map bent it
+            pf_first_hit(first, hit.t, hit.instance, dot(sp.ns, wo) < 0.0f ? -sp.ns : sp.ns, mp.base_color);
         const PfBsdf bsdf = pf_make_bsdf(mp);
         const bool transmissive = bsdf.w_glass > 0.0f;
         // orient(): opaque surfaces are shaded on the side the ray arrives from.
@@ -171,12 +186,14 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
 }
 
 // One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples. out holds
-// (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel.
+// (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel;
+// first_hits, when fp.first_hits is set, 8 words per pixel.
 #define PF_KERNEL_PARAM(name, type) __global const type* name,
 #define PF_SCENE_INIT(name, type) name,
 __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
                                  __global const PfSceneGlobals* globals,
-                             __global float* out, __global uint* counters) {
+                             __global float* out, __global uint* counters,
+                             __global float* first_hits) {
     const int x = (int)get_global_id(0);
     const int row = (int)get_global_id(1);
     if (x >= fp.width || row >= fp.y1 - fp.y0) return;
@@ -204,7 +221,11 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
                                    c2w[4] * sx + c2w[5] * sy - c2w[6],
                                    c2w[8] * sx + c2w[9] * sy - c2w[10]));
         ray.tmax = PF_INFINITY;
-        const float3 l = pf_trace_path(&s, &fp, ray, &sampler, &rays, &nonfinite);
+        float first[8];
+        const float3 l = pf_trace_path(&s, &fp, ray, &sampler, &rays, &nonfinite, first);
+        if (fp.first_hits && k == fp.first_sample)
+            for (int w = 0; w < 8; ++w)
+                first_hits[8 * ((size_t)row * (size_t)fp.width + (size_t)x) + w] = first[w];
 #ifdef cl_khr_fp64
         sum += convert_double3(l);
 #else

@@ -1,0 +1,75 @@
+// First-hit planes: half floats through glm's packHalf1x16, then one zstd frame.
+#include "common/film/first_hits.h"
+
+#include <cstring>
+
+#include <glm/gtc/packing.hpp>
+#include <zstd.h>
+
+namespace pathfarm {
+namespace {
+
+constexpr std::size_t kBytesPerHit = 2 * 4 + 6 * 2;
+
+template <typename T>
+void put(std::string& out, std::size_t& at, T value) {
+    std::memcpy(out.data() + at, &value, sizeof(T));
+    at += sizeof(T);
+}
+
+template <typename T>
+T get(const std::string& in, std::size_t& at) {
+    T value;
+    std::memcpy(&value, in.data() + at, sizeof(T));
+    at += sizeof(T);
+    return value;
+}
+
+}  // namespace
+
+std::string encode_first_hits(const FirstHit* hits, std::size_t count) {
+    std::string raw(count * kBytesPerHit, '\0');
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < count; ++i)
+        put(raw, at, hits[i].distance);
+    for (std::size_t i = 0; i < count; ++i)
+        put(raw, at, hits[i].instance);
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < count; ++i)
+            put(raw, at, uint16_t(glm::packHalf1x16(hits[i].normal[c])));
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < count; ++i)
+            put(raw, at, uint16_t(glm::packHalf1x16(hits[i].albedo[c])));
+    std::string out(ZSTD_compressBound(raw.size()), '\0');
+    const std::size_t n = ZSTD_compress(out.data(), out.size(), raw.data(), raw.size(), 1);
+    out.resize(ZSTD_isError(n) ? 0 : n);
+    return out;
+}
+
+Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::size_t count) {
+    const unsigned long long size = ZSTD_getFrameContentSize(data.data(), data.size());
+    if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN ||
+        size != count * kBytesPerHit)
+        return make_error(ErrorCode::parse_error, "first hits: {} bytes announced, {} expected",
+                          size, count * kBytesPerHit);
+    std::string raw(size, '\0');
+    const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), data.data(), data.size());
+    if (ZSTD_isError(n) || n != size)
+        return make_error(ErrorCode::parse_error, "first hits: {}",
+                          ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short");
+    std::vector<FirstHit> hits(count);
+    std::size_t at = 0;
+    for (FirstHit& h : hits)
+        h.distance = get<float>(raw, at);
+    for (FirstHit& h : hits)
+        h.instance = get<uint32_t>(raw, at);
+    for (int c = 0; c < 3; ++c)
+        for (FirstHit& h : hits)
+            h.normal[c] = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+    for (int c = 0; c < 3; ++c)
+        for (FirstHit& h : hits)
+            h.albedo[c] = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+    return hits;
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,34 @@
+// First hits: what a pixel's first camera sample met first (DESIGN.md, "The frame" step 5).
+// Tracers compute them while they render and send them with each tile, so the coordinator
+// reprojects history and the denoiser stops at edges without tracing a G-buffer of its own.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/base/result.h"
+#include "common/math/types.h"
+
+namespace pathfarm {
+
+// One pixel's first hit. Laid out as 8 four-byte words so the OpenCL kernel writes the same
+// bytes (tracer-node/opencl/kernels/path_tracer.cl, pf_first_hit).
+struct FirstHit {
+    static constexpr uint32_t kNone = 0xffffffffu;
+    float distance = kInfinity;  // along the primary ray; +inf where it escaped
+    uint32_t instance = kNone;   // SceneModel index in a backend; the commit's id on the wire
+    Vec3 normal{0.0f};           // unit world-space shading normal, facing the camera
+    Rgb albedo{0.0f};            // base colour at the hit (textures applied)
+    bool hit() const { return instance != kNone; }
+};
+static_assert(sizeof(FirstHit) == 8 * sizeof(float), "FirstHit is the kernel's 8 words");
+
+// Wire form (Tile.first_hits_zstd): planar distance (float32) and instance (uint32), normal and
+// albedo as IEEE half floats, zstd-compressed. Half precision is 1e-3 relative: plenty for
+// reprojection and edge-stopping weights, and 20 instead of 32 bytes a pixel.
+std::string encode_first_hits(const FirstHit* hits, std::size_t count);
+// Fails unless `data` holds exactly `count` pixels.
+Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::size_t count);
+
+}  // namespace pathfarm

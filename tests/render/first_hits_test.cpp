@@ -1,0 +1,166 @@
+// First hits (common/film/first_hits.h) as the backends return them beside the radiance: each
+// pixel's entry is what its first camera sample's ray meets first, found here again by brute
+// force in double precision over every triangle; asking for them leaves the radiance alone,
+// any row split gives the same bytes, and the OpenCL backend agrees with Embree.
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "common/math/transform.h"
+#include "common/scene/load/builtin_scenes.h"
+#include "common/sampling/rng.h"
+#include "tests/support/render_helpers.h"
+
+namespace pathfarm {
+namespace {
+
+using tracer::BackendKind;
+
+constexpr int kWidth = 40, kHeight = 24;
+
+struct Rendered {
+    std::vector<float> rgb;
+    std::vector<FirstHit> hits;
+};
+
+FrameSpec spec_of(const SceneModel& scene, int first_sample) {
+    return FrameSpec{kWidth, kHeight, 7, 11, 2, first_sample, scene.cameras.at(0)};
+}
+
+// Rows [0, kHeight) in the pieces `splits` separates; first hits only when `with_hits`.
+Rendered render_rows(const SceneModel& scene, BackendKind kind, const FrameSpec& spec,
+                     bool with_hits, const std::vector<int>& splits = {}) {
+    auto backend = tracer::create_backend(kind, tracer::BackendOptions{2, 0, 0});
+    EXPECT_TRUE(backend.ok()) << backend.error().message;
+    EXPECT_TRUE((*backend)->set_scene(scene).ok());
+    Rendered r{std::vector<float>(std::size_t(kWidth) * kHeight * 3),
+               std::vector<FirstHit>(with_hits ? std::size_t(kWidth) * kHeight : 0)};
+    std::vector<int> edges{0};
+    edges.insert(edges.end(), splits.begin(), splits.end());
+    edges.push_back(kHeight);
+    for (std::size_t k = 0; k + 1 < edges.size(); ++k) {
+        const std::size_t offset = std::size_t(edges[k]) * kWidth;
+        tracer::RenderJob job{spec, IntegratorSettings{}, edges[k], edges[k + 1], {},
+                              with_hits ? r.hits.data() + offset : nullptr};
+        auto stats = (*backend)->render_rows(job, r.rgb.data() + 3 * offset);
+        EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
+    }
+    return r;
+}
+
+struct ReferenceHit {
+    double t = INFINITY;
+    uint32_t instance = FirstHit::kNone;
+    uint32_t prim = 0;
+};
+
+// Closest hit of `ray` over every triangle of every instance (Moller-Trumbore, double).
+ReferenceHit brute_force(const SceneModel& scene, const Ray& ray) {
+    const glm::dvec3 o(ray.o), d(ray.d);
+    ReferenceHit best;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& inst = scene.instances[i];
+        const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
+        for (std::size_t p = 0; p < mesh.indices.size() / 3; ++p) {
+            glm::dvec3 v[3];
+            for (int k = 0; k < 3; ++k)
+                v[k] = glm::dvec3(
+                    transform_point(inst.transform, mesh.positions[mesh.indices[3 * p + k]]));
+            const glm::dvec3 e1 = v[1] - v[0], e2 = v[2] - v[0], q = glm::cross(d, e2);
+            const double det = glm::dot(e1, q);
+            if (std::abs(det) < 1e-300) continue;
+            const glm::dvec3 s = o - v[0], r = glm::cross(s, e1);
+            const double u = glm::dot(s, q) / det, w = glm::dot(d, r) / det;
+            const double t = glm::dot(e2, r) / det;
+            if (u >= 0.0 && w >= 0.0 && u + w <= 1.0 && t > 0.0 && t < best.t)
+                best = {t, uint32_t(i), uint32_t(p)};
+        }
+    }
+    return best;
+}
+
+SceneModel default_scene() {
+    SceneModel scene = make_default_scene();
+    recentre_on_camera(scene, scene.cameras.at(0));  // as tracers hold it
+    return scene;
+}
+
+class FirstHits : public ::testing::TestWithParam<BackendKind> {};
+
+TEST_P(FirstHits, AreWhatTheFirstSamplesRayMeetsFirst) {
+    const SceneModel scene = default_scene();
+    const FrameSpec spec = spec_of(scene, 3);
+    const Rendered r = render_rows(scene, GetParam(), spec, true);
+    int hits = 0, mismatched = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            PixelSampler sampler(uint32_t(x), uint32_t(y), spec.frame, uint32_t(spec.first_sample),
+                                 spec.seed);
+            const Vec2 jitter = sampler.next_2d();
+            const Ray ray = generate_camera_ray(spec.camera, kWidth, kHeight, float(x) + jitter.x,
+                                                float(y) + jitter.y);
+            const ReferenceHit want = brute_force(scene, ray);
+            const FirstHit& got = r.hits[std::size_t(y) * kWidth + x];
+            ASSERT_EQ(got.hit(), want.instance != FirstHit::kNone) << "pixel " << x << "," << y;
+            if (!got.hit()) {
+                EXPECT_TRUE(std::isinf(got.distance));
+                continue;
+            }
+            ++hits;
+            // A ray through a shared edge may take either triangle's instance.
+            if (got.instance != want.instance) ++mismatched;
+            EXPECT_NEAR(got.distance, want.t, 1e-4 * want.t + 1e-5) << "pixel " << x << "," << y;
+            EXPECT_NEAR(glm::length(got.normal), 1.0f, 1e-3f);
+            EXPECT_LE(glm::dot(got.normal, ray.d), 1e-6f) << "the normal faces the camera";
+            const Material& m =
+                scene.materials[std::size_t(scene.meshes[std::size_t(
+                    scene.instances[got.instance].mesh)].material)];
+            if (!m.base_color_texture.valid()) {
+                const Rgb base = glm::clamp(Rgb(m.base_color_factor), 0.0f, 1.0f);
+                EXPECT_NEAR(glm::length(got.albedo - base), 0.0f, 1e-6f)
+                    << "pixel " << x << "," << y;
+            }
+        }
+    EXPECT_GT(hits, kWidth * kHeight / 2);
+    EXPECT_LE(mismatched, hits / 100);
+}
+
+TEST_P(FirstHits, LeaveTheRadianceAloneAndAgreeForAnySplit) {
+    const SceneModel scene = default_scene();
+    const FrameSpec spec = spec_of(scene, 0);
+    const Rendered plain = render_rows(scene, GetParam(), spec, false);
+    const Rendered whole = render_rows(scene, GetParam(), spec, true);
+    const Rendered split = render_rows(scene, GetParam(), spec, true, {4, 5, 17});
+    ASSERT_EQ(std::memcmp(plain.rgb.data(), whole.rgb.data(), plain.rgb.size() * sizeof(float)), 0);
+    ASSERT_EQ(std::memcmp(whole.rgb.data(), split.rgb.data(), whole.rgb.size() * sizeof(float)), 0);
+    ASSERT_EQ(std::memcmp(whole.hits.data(), split.hits.data(), whole.hits.size() * sizeof(FirstHit)),
+              0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, FirstHits, ::testing::ValuesIn(test::built_backends()),
+                         test::BackendTestName{});
+
+#ifdef PATHFARM_HAS_OPENCL
+// The kernel's first hits against Embree's: the same surfaces, within float differences.
+TEST(FirstHitsAcrossBackends, OpenClAgreesWithEmbree) {
+    const SceneModel scene = default_scene();
+    const FrameSpec spec = spec_of(scene, 1);
+    const Rendered e = render_rows(scene, BackendKind::embree, spec, true);
+    const Rendered c = render_rows(scene, BackendKind::opencl, spec, true);
+    int same = 0;
+    for (std::size_t i = 0; i < e.hits.size(); ++i) {
+        const FirstHit &a = e.hits[i], &b = c.hits[i];
+        if (a.instance != b.instance) continue;
+        ++same;
+        if (!a.hit()) continue;
+        EXPECT_NEAR(a.distance, b.distance, 1e-4f * a.distance) << "pixel " << i;
+        EXPECT_GT(glm::dot(a.normal, b.normal), 0.999f) << "pixel " << i;
+        EXPECT_LT(glm::length(a.albedo - b.albedo), 2e-3f) << "pixel " << i;
+    }
+    EXPECT_GE(same, int(e.hits.size()) * 99 / 100);
+}
+#endif
+
+}  // namespace
+}  // namespace pathfarm
