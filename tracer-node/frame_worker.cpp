@@ -6,6 +6,7 @@
 
 #include "common/base/timer.h"
 #include "common/base/work_unit.h"
+#include "common/film/first_hits.h"
 #include "common/film/float_codec.h"
 
 namespace pathfarm::tracer {
@@ -79,7 +80,9 @@ Status FrameWorker::render(const wire::Assignment& a) {
 
 Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y0, int y1) {
     std::vector<float> rgb(std::size_t(y1 - y0) * a.width * 3);
-    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y0), {}, 0, 0.0, {}, {}};
+    std::vector<FirstHit> hits(a.first_hits ? std::size_t(y1 - y0) * a.width : 0);
+    job.first_hits = a.first_hits ? hits.data() : nullptr;
+    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y0), {}, 0, 0.0, {}, {}, {}};
     const Timer tile_timer;
     const double slowdown = frame_slowdown(options_, a.frame);
     // A slowed-down tracer keeps the unit loop: its emulated slowness is spread over units, as
@@ -92,6 +95,12 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
     rgb.resize(std::size_t(tile.y1 - tile.y0) * a.width * 3);
     tile.raw_bytes = uint32_t(rgb.size() * sizeof(float));
     tile.rgb_zstd = compress_floats(rgb.data(), rgb.size());
+    if (a.first_hits) {
+        hits.resize(std::size_t(tile.y1 - tile.y0) * a.width);
+        for (FirstHit& h : hits)  // the commit's ids, which the coordinator knows
+            if (h.hit()) h.instance = scene_.instances[h.instance].id;
+        tile.first_hits_zstd = encode_first_hits(hits.data(), hits.size());
+    }
     tile.render_ms = tile_timer.milliseconds();
     send_(wire::encode_tile(tile));
     return {};
@@ -110,8 +119,11 @@ Status FrameWorker::render_tile_by_units(const wire::Assignment& a, RenderJob& j
         if (control_.truncated(a, uint32_t(y))) return {};  // send what is done, not the rest
         job.y0 = y;
         job.y1 = std::min(y1, y + kRowsPerWorkUnit);
+        FirstHit* hits = job.first_hits;
+        if (hits) job.first_hits += std::size_t(y - y0) * a.width;
         const Timer unit;
         auto stats = backend_.render_rows(job, rgb.data() + std::size_t(y - y0) * a.width * 3);
+        job.first_hits = hits;
         if (!stats) return stats.error();
         const double unit_s = unit.seconds();
         if (slowdown > 1.0)  // an X times slower machine, unit by unit

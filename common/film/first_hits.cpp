@@ -3,8 +3,8 @@
 
 #include <cstring>
 
-#include <glm/gtc/packing.hpp>
 #include <zstd.h>
+#include <glm/gtc/packing.hpp>
 
 namespace pathfarm {
 namespace {

@@ -1,6 +1,7 @@
-// First hits: what a pixel's first camera sample met first (DESIGN.md, "The frame" step 5).
-// Tracers compute them while they render and send them with each tile, so the coordinator
-// reprojects history and the denoiser stops at edges without tracing a G-buffer of its own.
+// First hits: what a pixel's centre ray meets first (DESIGN.md, "The frame" step 5). Tracers
+// compute them while they render and send them with each tile, so the coordinator reprojects
+// history and the denoiser stops at edges without tracing a G-buffer of its own. The centre
+// ray, not a jittered sample's: a still view must see the same surface in a pixel every frame.
 #pragma once
 
 #include <cstdint>

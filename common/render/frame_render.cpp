@@ -17,10 +17,12 @@ void render_block(const PathTracer& tracer, const FrameSpec& spec, int x0, int x
                 const Vec2 jitter = sampler.next_2d();
                 const Ray ray = generate_camera_ray(spec.camera, spec.width, spec.height,
                                                     float(x) + jitter.x, float(y) + jitter.y);
-                FirstHit* first =
-                    hit_row && s == spec.first_sample ? hit_row + (x - x0) : nullptr;
-                sum += glm::dvec3(tracer.trace(ray, sampler, counters, first));
+                sum += glm::dvec3(tracer.trace(ray, sampler, counters));
             }
+            if (hit_row)
+                hit_row[x - x0] = tracer.first_hit(
+                    generate_camera_ray(spec.camera, spec.width, spec.height, x + 0.5f, y + 0.5f),
+                    counters);
             float* p = row + 3 * (x - x0);
             p[0] = float(sum.x * inv_spp);
             p[1] = float(sum.y * inv_spp);

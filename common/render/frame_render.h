@@ -22,8 +22,9 @@ struct FrameSpec {
 // Renders pixels [x0, x1) x [y0, y1) into out, where out points at pixel (x0, y0) and rows are
 // out_stride floats apart. Each pixel is the box-filtered mean of spp samples (uniform jitter
 // inside the pixel square), accumulated in double. `hits`, when given, points at pixel (x0, y0)
-// of a first-hit image with rows hits_stride pixels apart and receives the first hits of each
-// pixel's first sample.
+// of a first-hit image with rows hits_stride pixels apart and receives what each pixel's
+// centre ray meets first: the same surfaces every frame for a still view, as reprojection
+// needs (a jittered sample's would flip between the surfaces at every edge).
 void render_block(const PathTracer& tracer, const FrameSpec& spec, int x0, int x1, int y0, int y1,
                   float* out, std::size_t out_stride, SampleCounters& counters,
                   FirstHit* hits = nullptr, std::size_t hits_stride = 0);

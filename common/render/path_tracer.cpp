@@ -156,13 +156,9 @@ Rgb PathTracer::emission_at(const PathState& s, const Hit& hit, const SurfacePoi
 // Russian roulette included); false when the path ends here.
 template <bool kTransmission>
 bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
-                         SampleCounters& counters, FirstHit* first) const {
+                         SampleCounters& counters) const {
     const Vec3 wo = -ray.d;
     const MaterialPoint mp = shading_.material_point(sp);
-    if (first) {  // the normal as the normal map bent it
-        first->normal = glm::dot(sp.ns, wo) < 0.0f ? -sp.ns : sp.ns;
-        first->albedo = mp.base_color;
-    }
     const Bsdf bsdf(mp);
     const Orientation o = orient(sp, wo, bsdf.transmissive());
     const Vec3 wo_local = o.frame.to_local(wo);
@@ -194,9 +190,17 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     return true;
 }
 
+FirstHit PathTracer::first_hit(const Ray& ray, SampleCounters& counters) const {
+    Hit hit;
+    ++counters.rays;
+    if (!kernel_.intersect(ray, hit)) return FirstHit{};
+    SurfacePoint sp = shading_.surface(hit);
+    const MaterialPoint mp = shading_.material_point(sp);
+    return {hit.t, hit.instance, glm::dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns, mp.base_color};
+}
+
 template <uint32_t kFeatures>
-Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters,
-                           FirstHit* first) const {
+Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
     constexpr bool kEmitters = kFeatures & kFeatureEmitters;
     constexpr bool kEnvironment = kFeatures & kFeatureEnvironment;
     constexpr bool kTransmission = kFeatures & kFeatureTransmission;
@@ -209,7 +213,6 @@ Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& count
         const bool found = kernel_.intersect(ray, hit);
         const bool count_emission = s.counts_emission(settings_.strategy);
         if (!found) {
-            if (depth == 0 && first) *first = FirstHit{};
             if (kEnvironment && lights_.has_environment() && count_emission)
                 s.radiance += escaped(s, ray.d);
             break;
@@ -217,14 +220,9 @@ Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& count
         if (kTransmission && max_component(s.sigma_a) > 0.0f)
             s.beta *= glm::exp(-s.sigma_a * hit.t);
         SurfacePoint sp = shading_.surface(hit);
-        if (depth == 0 && first)
-            *first = FirstHit{hit.t, hit.instance, glm::dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns,
-                              Rgb(0.0f)};
         if (kEmitters && count_emission) s.radiance += emission_at(s, hit, sp, -ray.d);
         if (depth >= settings_.max_depth) break;
-        if (!scatter<kTransmission>(s, ray, sp, depth, sampler, counters,
-                                    depth == 0 ? first : nullptr))
-            break;
+        if (!scatter<kTransmission>(s, ray, sp, depth, sampler, counters)) break;
     }
     if (!is_finite(s.radiance)) {
         ++counters.nonfinite_samples;

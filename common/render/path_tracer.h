@@ -59,19 +59,18 @@ public:
                const IntegratorSettings& settings);
 
     // Radiance along a camera ray. A non-finite estimate is counted and returned as zero.
-    // `first`, when given, receives what the ray met first (its distance, instance, shading
-    // normal facing the ray and base colour): free, the path computes them anyway.
-    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters,
-              FirstHit* first = nullptr) const {
-        return (this->*trace_)(ray, sampler, counters, first);
+    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+        return (this->*trace_)(ray, sampler, counters);
     }
+    // What `ray` meets first: its distance, instance, shading normal facing the ray (as the
+    // normal map bends it) and base colour. One closest-hit ray, counted.
+    FirstHit first_hit(const Ray& ray, SampleCounters& counters) const;
     uint32_t features() const { return features_; }  // of the loop in use
 
 private:
-    using TraceFn = Rgb (PathTracer::*)(Ray, PixelSampler&, SampleCounters&, FirstHit*) const;
+    using TraceFn = Rgb (PathTracer::*)(Ray, PixelSampler&, SampleCounters&) const;
     template <uint32_t kFeatures>
-    Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters,
-                   FirstHit* first) const;
+    Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
 
     // One light sample at sp; sigma_a is the absorption of the medium the path is in.
     Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
@@ -85,7 +84,7 @@ private:
                     const Vec3& wo) const;
     template <bool kTransmission>
     bool scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
-                 SampleCounters& counters, FirstHit* first) const;
+                 SampleCounters& counters) const;
 
     const ShadingScene& shading_;
     const LightSampler& lights_;

@@ -39,6 +39,7 @@ struct Instance {
     int mesh = -1;
     int node = -1;
     Mat4 transform{1.0f};  // object to world
+    uint32_t id = 0;       // the scene graph's id in a replica's model (first hits); 0 if loaded
 };
 
 struct SceneModel {

@@ -75,7 +75,7 @@ SceneModel to_scene_model(const SceneState& s) {
     }
     for (const auto& [id, inst] : s.instances) {
         const int mesh = remap(meshes, int(inst.mesh));
-        if (mesh >= 0) m.instances.push_back({mesh, -1, inst.transform});
+        if (mesh >= 0) m.instances.push_back({mesh, -1, inst.transform, id});
     }
     const auto active = s.cameras.find(s.active_camera);
     if (active != s.cameras.end()) m.cameras.push_back(active->second);

@@ -45,8 +45,8 @@ std::string envelope_with(int field, const std::string& message) {
 }
 
 Result<Assignment> to_assignment(const pb::FrameAssignment& w) {
-    Assignment a{w.frame(),  w.commit(), w.y0(),   w.y1(),        w.width(),
-                 w.height(), w.spp(),    w.seed(), w.max_depth(), w.rr_scale()};
+    Assignment a{w.frame(), w.commit(), w.y0(),        w.y1(),       w.width(),     w.height(),
+                 w.spp(),   w.seed(),   w.max_depth(), w.rr_scale(), w.first_hits()};
     if (a.rr_scale == 0.0f) a.rr_scale = 1.0f;  // absent: full survival
     if (a.width == 0 || a.height == 0 || a.width > kMaxImageSide || a.height > kMaxImageSide ||
         a.y0 >= a.y1 || a.y1 > a.height)
@@ -75,6 +75,7 @@ std::string encode_assignment(const Assignment& a) {
     w->set_seed(a.seed);
     w->set_max_depth(a.max_depth);
     if (a.rr_scale < 1.0f) w->set_rr_scale(a.rr_scale);
+    w->set_first_hits(a.first_hits);
     return e.SerializeAsString();
 }
 
@@ -100,6 +101,7 @@ std::string encode_tile(const Tile& t) {
         w->add_unit_cost_us(us);
     for (uint64_t rays : t.unit_rays)
         w->add_unit_rays(rays);
+    w->set_first_hits_zstd(t.first_hits_zstd);
     return e.SerializeAsString();
 }
 Result<Tile> decode_tile(const std::string& bytes) {
@@ -114,7 +116,8 @@ Result<Tile> decode_tile(const std::string& bytes) {
            w.raw_bytes(),
            w.render_ms(),
            {w.unit_cost_us().begin(), w.unit_cost_us().end()},
-           {w.unit_rays().begin(), w.unit_rays().end()}};
+           {w.unit_rays().begin(), w.unit_rays().end()},
+           w.first_hits_zstd()};
     const std::size_t units =
         (std::size_t(t.y1 - std::min(t.y0, t.y1)) + kRowsPerWorkUnit - 1) / kRowsPerWorkUnit;
     if (t.y0 >= t.y1 || t.y1 > kMaxImageSide)

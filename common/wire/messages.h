@@ -25,7 +25,8 @@ struct Assignment {
     uint32_t y0 = 0, y1 = 0;
     uint32_t width = 0, height = 0;
     uint32_t spp = 1, seed = 0, max_depth = 8;
-    float rr_scale = 1.0f;  // Russian-roulette survival scale in (0, 1] (workload scaling)
+    float rr_scale = 1.0f;    // Russian-roulette survival scale in (0, 1] (workload scaling)
+    bool first_hits = false;  // send each pixel's first hit with the tiles
 };
 
 // Coordinator -> tracer: the rows of `frame` from `row` on went to another tracer: stop before
@@ -45,6 +46,7 @@ struct Tile {
     double render_ms = 0.0;
     std::vector<uint32_t> unit_cost_us;
     std::vector<uint64_t> unit_rays;
+    std::string first_hits_zstd;  // encode_first_hits, ids as the commit's; empty unless asked
 };
 
 // Client -> coordinator: one input, with its sequence number and send time for latency.

@@ -1,13 +1,13 @@
-// The primary-hit G-buffer the coordinator traces for reprojection (one ray through each
-// pixel centre against its own BVH of the frame). Tracers return radiance only; the
-// coordinator computes this while they render, so the wire format does not grow.
+// The primary-hit G-buffer for reprojection and (next) the denoiser, made from the first hits
+// the tracers return with their tiles (DESIGN.md, "The frame" step 6): the coordinator traces
+// no rays of its own for it.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "common/film/first_hits.h"
 #include "common/scene/camera.h"
-#include "coordinator/accel/accel_updater.h"
 
 namespace pathfarm::coord {
 
@@ -16,21 +16,20 @@ struct GBuffer {
     std::vector<float> distance;     // along the unit primary ray; +inf where the ray escapes
     std::vector<uint32_t> instance;  // instance id; kNoInstance where the ray escapes
     std::vector<Vec3> position;      // world-space hit point (undefined where it escapes)
+    std::vector<Vec3> normal;        // shading normal facing the camera (zero where it escapes)
+    std::vector<Rgb> albedo;         // base colour (zero where it escapes)
 
     static constexpr uint32_t kNoInstance = 0;  // instance ids start at 1
     bool hit(std::size_t i) const { return instance[i] != kNoInstance; }
+    void resize(int w, int h);  // every pixel a miss
 };
 
-GBuffer trace_gbuffer(const AccelSnapshot& accel, const Camera& camera, int width, int height);
-
-// The G-buffer of `accel` for the camera `previous` was traced with, re-tracing only the
-// screen rectangles that instances which changed since `previous_accel` (moved, deformed,
-// added or removed) covered before or cover now. Falls back to a full trace where a changed
-// box reaches behind the camera. Equal to a full trace: every other pixel's ray meets the
-// same geometry as before.
-GBuffer update_gbuffer(const GBuffer& previous, const AccelSnapshot& previous_accel,
-                       const AccelSnapshot& accel, const Camera& camera,
-                       std::size_t* traced_pixels = nullptr);
+// The G-buffer at width x height from the first hits of a hits_width x hits_height render
+// (workload scaling may render smaller than the display): each pixel takes the nearest render
+// pixel's hit, placed along its own centre ray at that hit's distance. The first hits' jitter
+// moves a surface point by at most a pixel's footprint.
+GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_width, int hits_height,
+                                const Camera& camera, int width, int height);
 
 // Maps world points and directions to continuous pixel coordinates (pixel centres at +0.5):
 // the inverse of generate_camera_ray. False when behind the camera.

@@ -6,13 +6,16 @@
 
 namespace pathfarm::coord {
 
-int FrameAssembler::add(const RowRange& range, const float* rgb) {
+int FrameAssembler::add(const RowRange& range, const float* rgb, const FirstHit* hits) {
     int added = 0;
     const std::size_t row_floats = std::size_t(image_.width) * 3;
     for (int y = std::max(0, range.y0); y < std::min(image_.height, range.y1); ++y) {
         if (done_[std::size_t(y)]) continue;
         std::memcpy(image_.row(y), rgb + std::size_t(y - range.y0) * row_floats,
                     row_floats * sizeof(float));
+        if (hits && !hits_.empty())
+            std::copy_n(hits + std::size_t(y - range.y0) * image_.width, image_.width,
+                        hits_.begin() + std::ptrdiff_t(y) * image_.width);
         done_[std::size_t(y)] = true;
         ++added;
     }

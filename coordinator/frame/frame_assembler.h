@@ -5,25 +5,31 @@
 #include <vector>
 
 #include "common/film/film.h"
+#include "common/film/first_hits.h"
 #include "coordinator/balance/row_range.h"
 
 namespace pathfarm::coord {
 
 class FrameAssembler {
 public:
-    FrameAssembler(int width, int height)
-        : image_(width, height), done_(std::size_t(height), false) {}
+    // `first_hits`: the frame's tiles carry first hits, assembled beside the image.
+    FrameAssembler(int width, int height, bool first_hits = false)
+        : image_(width, height),
+          hits_(first_hits ? std::size_t(width) * height : 0),
+          done_(std::size_t(height), false) {}
 
-    // Copies rows [range.y0, range.y1) from rgb (rows * width * 3 floats). Returns the number
-    // of rows that were new.
-    int add(const RowRange& range, const float* rgb);
+    // Copies rows [range.y0, range.y1) from rgb (rows * width * 3 floats) and, if the frame
+    // has them, from hits (rows * width). Returns the number of rows that were new.
+    int add(const RowRange& range, const float* rgb, const FirstHit* hits = nullptr);
     bool complete() const { return missing_rows_ == 0; }
     // Maximal runs of rows not yet received within `within`.
     std::vector<RowRange> missing(const RowRange& within) const;
     const FloatImage& image() const { return image_; }
+    const std::vector<FirstHit>& first_hits() const { return hits_; }  // empty if not asked
 
 private:
     FloatImage image_;
+    std::vector<FirstHit> hits_;
     std::vector<bool> done_;
     int missing_rows_ = image_.height;
 };

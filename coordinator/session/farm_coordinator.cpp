@@ -33,7 +33,7 @@ struct PreparedFrame {
     FrameUpdate update;
     std::vector<std::string> plain, with_bvh;
     std::size_t plain_bytes = 0;
-    FrameView view;  // camera, instances, deformed, cut; the G-buffer is added while it renders
+    FrameView view;  // camera, instances, deformed, cut; the G-buffer comes with the tiles
 };
 
 // Starts frame f no earlier than one interval after frame f - 1 (a held frame rate).
@@ -67,7 +67,6 @@ private:
     bool converged_and_unchanged(const PreparedFrame& p) const;
     void begin_frame(uint64_t frame, const PreparedFrame& p, bool render);
     FrameWork next_work(uint64_t frame) const;
-    GBuffer frame_gbuffer(const FrameView& view);
     void observe_frame_time(double frame_ms);
     void show(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered);
     void log_rate(uint64_t frame, int completed);
@@ -82,13 +81,6 @@ private:
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     FrameWork work_;                        // of the frame being rendered
     Timer run_clock_;                       // since the farm started: stats' wall_ms
-    struct TracedGBuffer {                  // the last frame's, to update instead of re-trace
-        GBuffer gbuffer;
-        std::shared_ptr<const AccelSnapshot> accel;
-        Camera camera;
-    };
-    std::optional<TracedGBuffer> last_gbuffer_;
-    std::shared_ptr<const AccelSnapshot> gbuffer_accel_;  // the accel of the frame rendering
     CsvWriter frame_stats_, tracer_stats_, stages_, costs_;
     double last_line_s_ = 0.0;
     int completed_at_last_line_ = 0;
@@ -156,7 +148,8 @@ bool Farm::converged_and_unchanged(const PreparedFrame& p) const {
 }
 
 FrameWork Farm::next_work(uint64_t frame) const {
-    FrameWork w{frame, o_.width, o_.height, o_.spp, 1.0f, o_.seed, o_.max_depth};
+    // Converging reprojects with the tracers' first hits.
+    FrameWork w{frame, o_.width, o_.height, o_.spp, 1.0f, o_.seed, o_.max_depth, o_.converge};
     if (!scaler_) return w;
     const QualityLevel& l = scaler_->level();
     w.width = std::max(8, int(std::lround(o_.width * l.resolution)));
@@ -168,25 +161,11 @@ FrameWork Farm::next_work(uint64_t frame) const {
 
 void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {
     work_ = next_work(frame);
-    gbuffer_accel_ = p.update.accel;
     const FrameCommit commit{&p.plain, &p.with_bvh, [&](bool with_bvh) {
                                  return wire::encode_commit_envelopes(
                                      encode_commit(pipeline_.snapshot(frame, with_bvh)));
                              }};
     tracers_.begin(work_, commit, render);
-}
-
-// With the same camera as last frame only the pixels under changed instances are traced again.
-GBuffer Farm::frame_gbuffer(const FrameView& view) {
-    const Camera& cam = view.camera;
-    const bool reuse = last_gbuffer_ &&
-                       last_gbuffer_->camera.camera_to_world == cam.camera_to_world &&
-                       last_gbuffer_->camera.yfov_radians == cam.yfov_radians;
-    GBuffer g =
-        reuse ? update_gbuffer(last_gbuffer_->gbuffer, *last_gbuffer_->accel, *gbuffer_accel_, cam)
-              : trace_gbuffer(*gbuffer_accel_, cam, o_.width, o_.height);
-    last_gbuffer_ = TracedGBuffer{g, gbuffer_accel_, cam};
-    return g;
 }
 
 void Farm::observe_frame_time(double frame_ms) {
@@ -211,7 +190,11 @@ void Farm::show(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool re
     if (image.width != o_.width || image.height != o_.height)
         image = resize_bilinear(image, o_.width, o_.height);
     ConvergeStats converged{0.0, 1.0, 0.0};
-    if (o_.converge && rendered) converged = accumulator_.blend(image, std::move(p.view));
+    if (o_.converge && rendered) {
+        p.view.gbuffer = gbuffer_from_first_hits(outcome.first_hits, work_.width, work_.height,
+                                                 p.view.camera, o_.width, o_.height);
+        converged = accumulator_.blend(image, std::move(p.view));
+    }
     const double display_ms = display_timer.milliseconds();
     frame_stats_.row(work_.frame, tracers_.size(), frame_ms, outcome.idle_pct, p.plain_bytes,
                      outcome.tile_bytes, rendered ? work_.spp : 0, work_.rr_scale, work_.width,
@@ -267,7 +250,6 @@ Status Farm::run(const std::atomic<bool>& stop) {
             ++completed;
             continue;
         }
-        if (o_.converge) current.view.gbuffer = frame_gbuffer(current.view);  // while it renders
         const double prepare_ms = stage.milliseconds();
         stage.reset();
         const TracerPool::Wait end = tracers_.wait_for_frame(stop);

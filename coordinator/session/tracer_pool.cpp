@@ -58,7 +58,7 @@ std::size_t TracerPool::size() const {
 void TracerPool::begin(const FrameWork& work, const FrameCommit& commit, bool render) {
     std::lock_guard lock(mutex_);
     work_ = work;
-    assembler_.emplace(work.width, work.height);
+    assembler_.emplace(work.width, work.height, work.first_hits);
     tile_bytes_ = 0;
     units_.assign(std::size_t(work_units(work.height)), UnitReport{});
     std::optional<std::vector<std::string>> snapshots[2];  // made once each, if needed
@@ -115,7 +115,8 @@ void TracerPool::assign(uint64_t id, Tracer& t, const RowRange& r) {
                        uint32_t(work_.spp),
                        work_.seed,
                        uint32_t(work_.max_depth),
-                       work_.rr_scale};
+                       work_.rr_scale,
+                       work_.first_hits};
     t.session->send(wire::encode_assignment(a));
     t.assigned.push_back(r);
     t.news_at = now_();
@@ -138,7 +139,13 @@ void TracerPool::on_tile(uint64_t id, const std::string& bytes) {
     if (range.y1 > work_.height || !rgb)
         return it->second.session->reject(net::ProtocolError::malformed,
                                           "tile rows or pixels do not fit the frame");
-    assembler_->add(range, rgb->data());
+    Result<std::vector<FirstHit>> hits = std::vector<FirstHit>{};
+    if (work_.first_hits) hits = decode_first_hits(tile->first_hits_zstd, floats / 3);
+    if (!hits)
+        return it->second.session->reject(
+            net::ProtocolError::malformed,
+            "tile without the first hits its assignment asked for: " + hits.error().message);
+    assembler_->add(range, rgb->data(), work_.first_hits ? hits->data() : nullptr);
     Tracer& t = it->second;
     t.render_ms += tile->render_ms;
     t.tile_rows += range.rows();
@@ -240,7 +247,7 @@ TracerPool::Wait TracerPool::wait_for_frame(const std::atomic<bool>& stop) {
 
 FrameOutcome TracerPool::finish() {
     std::lock_guard lock(mutex_);
-    FrameOutcome out{assembler_->image(), 0.0, tile_bytes_, {}, units_};
+    FrameOutcome out{assembler_->image(), assembler_->first_hits(), 0.0, tile_bytes_, {}, units_};
     last_unit_cost_ = unit_cost_map(units_);
     std::vector<double> busy;
     for (auto& [id, t] : tracers_) {

@@ -32,6 +32,7 @@ struct FrameWork {
     float rr_scale = 1.0f;
     uint32_t seed = 0;
     int max_depth = 8;
+    bool first_hits = false;  // the tiles carry first hits (FrameOutcome::first_hits)
 };
 
 // A commit as envelopes, plain and with the BVH ops for tracers that traverse the
@@ -53,6 +54,7 @@ struct TracerFrameStats {
 // What a finished frame leaves: its image and the tracers' accounting.
 struct FrameOutcome {
     FloatImage image;
+    std::vector<FirstHit> first_hits;  // at the image's size, by commit instance id; if asked
     double idle_pct = 0.0;
     std::size_t tile_bytes = 0;
     std::vector<TracerFrameStats> tracers;

@@ -1,7 +1,7 @@
 // First hits (common/film/first_hits.h) as the backends return them beside the radiance: each
-// pixel's entry is what its first camera sample's ray meets first, found here again by brute
-// force in double precision over every triangle; asking for them leaves the radiance alone,
-// any row split gives the same bytes, and the OpenCL backend agrees with Embree.
+// pixel's entry is what its centre ray meets first, found here again by brute force in double
+// precision over every triangle; asking for them leaves the radiance alone, any row split gives
+// the same bytes, and the OpenCL backend agrees with Embree.
 #include <cmath>
 #include <cstring>
 
@@ -9,7 +9,6 @@
 
 #include "common/math/transform.h"
 #include "common/scene/load/builtin_scenes.h"
-#include "common/sampling/rng.h"
 #include "tests/support/render_helpers.h"
 
 namespace pathfarm {
@@ -41,8 +40,9 @@ Rendered render_rows(const SceneModel& scene, BackendKind kind, const FrameSpec&
     edges.push_back(kHeight);
     for (std::size_t k = 0; k + 1 < edges.size(); ++k) {
         const std::size_t offset = std::size_t(edges[k]) * kWidth;
-        tracer::RenderJob job{spec, IntegratorSettings{}, edges[k], edges[k + 1], {},
-                              with_hits ? r.hits.data() + offset : nullptr};
+        tracer::RenderJob job{spec,     IntegratorSettings{},
+                              edges[k], edges[k + 1],
+                              {},       with_hits ? r.hits.data() + offset : nullptr};
         auto stats = (*backend)->render_rows(job, r.rgb.data() + 3 * offset);
         EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
     }
@@ -88,18 +88,14 @@ SceneModel default_scene() {
 
 class FirstHits : public ::testing::TestWithParam<BackendKind> {};
 
-TEST_P(FirstHits, AreWhatTheFirstSamplesRayMeetsFirst) {
+TEST_P(FirstHits, AreWhatThePixelCentresRayMeetsFirst) {
     const SceneModel scene = default_scene();
     const FrameSpec spec = spec_of(scene, 3);
     const Rendered r = render_rows(scene, GetParam(), spec, true);
     int hits = 0, mismatched = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
-            PixelSampler sampler(uint32_t(x), uint32_t(y), spec.frame, uint32_t(spec.first_sample),
-                                 spec.seed);
-            const Vec2 jitter = sampler.next_2d();
-            const Ray ray = generate_camera_ray(spec.camera, kWidth, kHeight, float(x) + jitter.x,
-                                                float(y) + jitter.y);
+            const Ray ray = generate_camera_ray(spec.camera, kWidth, kHeight, x + 0.5f, y + 0.5f);
             const ReferenceHit want = brute_force(scene, ray);
             const FirstHit& got = r.hits[std::size_t(y) * kWidth + x];
             ASSERT_EQ(got.hit(), want.instance != FirstHit::kNone) << "pixel " << x << "," << y;
@@ -113,9 +109,8 @@ TEST_P(FirstHits, AreWhatTheFirstSamplesRayMeetsFirst) {
             EXPECT_NEAR(got.distance, want.t, 1e-4 * want.t + 1e-5) << "pixel " << x << "," << y;
             EXPECT_NEAR(glm::length(got.normal), 1.0f, 1e-3f);
             EXPECT_LE(glm::dot(got.normal, ray.d), 1e-6f) << "the normal faces the camera";
-            const Material& m =
-                scene.materials[std::size_t(scene.meshes[std::size_t(
-                    scene.instances[got.instance].mesh)].material)];
+            const Material& m = scene.materials[std::size_t(
+                scene.meshes[std::size_t(scene.instances[got.instance].mesh)].material)];
             if (!m.base_color_texture.valid()) {
                 const Rgb base = glm::clamp(Rgb(m.base_color_factor), 0.0f, 1.0f);
                 EXPECT_NEAR(glm::length(got.albedo - base), 0.0f, 1e-6f)
@@ -134,8 +129,8 @@ TEST_P(FirstHits, LeaveTheRadianceAloneAndAgreeForAnySplit) {
     const Rendered split = render_rows(scene, GetParam(), spec, true, {4, 5, 17});
     ASSERT_EQ(std::memcmp(plain.rgb.data(), whole.rgb.data(), plain.rgb.size() * sizeof(float)), 0);
     ASSERT_EQ(std::memcmp(whole.rgb.data(), split.rgb.data(), whole.rgb.size() * sizeof(float)), 0);
-    ASSERT_EQ(std::memcmp(whole.hits.data(), split.hits.data(), whole.hits.size() * sizeof(FirstHit)),
-              0);
+    ASSERT_EQ(
+        std::memcmp(whole.hits.data(), split.hits.data(), whole.hits.size() * sizeof(FirstHit)), 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, FirstHits, ::testing::ValuesIn(test::built_backends()),

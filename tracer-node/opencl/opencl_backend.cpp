@@ -158,8 +158,8 @@ Status OpenClBackend::Impl::reserve_output(std::size_t pixels) {
     counters = cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * 2 * sizeof(uint32_t),
                           nullptr, &err);
     if (err != CL_SUCCESS) return cl_failure("allocating the counters", err);
-    first_hits = cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * sizeof(FirstHit), nullptr,
-                            &err);
+    first_hits =
+        cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * sizeof(FirstHit), nullptr, &err);
     if (err != CL_SUCCESS) return cl_failure("allocating the first hits", err);
     out_capacity = pixels;
     return {};

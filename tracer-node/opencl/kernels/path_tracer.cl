@@ -84,19 +84,9 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurfa
     return f * transmittance * ls.radiance * (weight / pdf_light);
 }
 
-// What a camera ray met first, in FirstHit's 8 words (common/film/first_hits.h): distance,
-// instance, shading normal facing the ray, base colour.
-void pf_first_hit(float* first, float t, uint instance, float3 n, float3 albedo) {
-    first[0] = t;
-    first[1] = as_float(instance);
-    first[2] = n.x, first[3] = n.y, first[4] = n.z;
-    first[5] = albedo.x, first[6] = albedo.y, first[7] = albedo.z;
-}
-
-// Radiance along a camera ray; a non-finite estimate is counted and returned as zero. `first`
-// receives the first hit (8 words).
+// Radiance along a camera ray; a non-finite estimate is counted and returned as zero.
 float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSampler* sampler,
-                     uint* rays, uint* nonfinite, float* first) {
+                     uint* rays, uint* nonfinite) {
     float3 radiance = (float3)(0.0f);
     float3 beta = (float3)(1.0f);
     float3 sigma_a = (float3)(0.0f);
@@ -109,7 +99,6 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         const bool found = pf_trace(s, ray, &hit, false);
         const bool count_emission = delta_bounce || fp->strategy != PF_STRATEGY_LIGHT_ONLY;
         if (!found) {
-            if (depth == 0) pf_first_hit(first, PF_INFINITY, 0xffffffffu, (float3)(0.0f), (float3)(0.0f));
             if (PF_ENVIRONMENT && s->globals->has_environment && count_emission) {
                 const float3 le = pf_environment_radiance(s->globals, ray.d);
                 const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
@@ -123,8 +112,6 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
 
         PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
         const float3 wo = -ray.d;
-        if (depth == 0)
-            pf_first_hit(first, hit.t, hit.instance, dot(sp.ns, wo) < 0.0f ? -sp.ns : sp.ns, (float3)(0.0f));
         if (PF_EMITTERS && count_emission) {
             const float3 le = pf_emitted(s, &sp, wo);
             if (pf_max3(le) > 0.0f) {
@@ -137,8 +124,6 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (depth >= fp->max_depth) break;
 
         const PfMaterialPoint mp = pf_material_point(s, &sp);
-        if (depth == 0)  // the normal as the normal map bent it
-            pf_first_hit(first, hit.t, hit.instance, dot(sp.ns, wo) < 0.0f ? -sp.ns : sp.ns, mp.base_color);
         const PfBsdf bsdf = pf_make_bsdf(mp);
         const bool transmissive = bsdf.w_glass > 0.0f;
         // orient(): opaque surfaces are shaded on the side the ray arrives from.
@@ -185,9 +170,43 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
     return radiance;
 }
 
+// What a camera ray meets first, as FirstHit's 8 words (common/film/first_hits.h): distance,
+// instance, shading normal facing the ray, base colour (PathTracer::first_hit).
+void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) {
+    PfHit hit;
+    ++*rays;
+    if (!pf_trace(s, ray, &hit, false)) {
+        out[0] = PF_INFINITY;
+        out[1] = as_float(0xffffffffu);
+        for (int w = 2; w < 8; ++w) out[w] = 0.0f;
+        return;
+    }
+    PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
+    const PfMaterialPoint mp = pf_material_point(s, &sp);
+    const float3 n = dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns;
+    out[0] = hit.t;
+    out[1] = as_float(hit.instance);
+    out[2] = n.x, out[3] = n.y, out[4] = n.z;
+    out[5] = mp.base_color.x, out[6] = mp.base_color.y, out[7] = mp.base_color.z;
+}
+
+// The camera ray through (px, py) in pixels (generate_camera_ray).
+PfRay pf_camera_ray(const PfFrameParams* fp, float px, float py) {
+    const float* c2w = fp->camera_to_world;
+    const float aspect = (float)fp->width / (float)fp->height;
+    const float sx = (2.0f * px / (float)fp->width - 1.0f) * fp->tan_half_fov * aspect;
+    const float sy = (1.0f - 2.0f * py / (float)fp->height) * fp->tan_half_fov;
+    PfRay ray;
+    ray.o = (float3)(c2w[3], c2w[7], c2w[11]);
+    ray.d = normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2], c2w[4] * sx + c2w[5] * sy - c2w[6],
+                               c2w[8] * sx + c2w[9] * sy - c2w[10]));
+    ray.tmax = PF_INFINITY;
+    return ray;
+}
+
 // One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples. out holds
 // (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel;
-// first_hits, when fp.first_hits is set, 8 words per pixel.
+// first_hits, when fp.first_hits is set, the centre ray's first hit (8 words per pixel).
 #define PF_KERNEL_PARAM(name, type) __global const type* name,
 #define PF_SCENE_INIT(name, type) name,
 __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
@@ -199,9 +218,6 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
     if (x >= fp.width || row >= fp.y1 - fp.y0) return;
     const int y = fp.y0 + row;
     PfScene s = {PF_SCENE_ARRAYS(PF_SCENE_INIT) globals};
-    const float* c2w = fp.camera_to_world;
-    const float3 eye = (float3)(c2w[3], c2w[7], c2w[11]);
-    const float aspect = (float)fp.width / (float)fp.height;
     uint rays = 0, nonfinite = 0;
 #ifdef cl_khr_fp64
     double3 sum = (double3)(0.0);
@@ -212,20 +228,8 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
         PfSampler sampler =
             pf_make_sampler((uint)x, (uint)y, fp.frame, (uint)k, fp.seed, globals->sobol_dim1);
         const float2 jitter = pf_next_2d(&sampler);
-        const float px = (float)x + jitter.x, py = (float)y + jitter.y;
-        const float sx = (2.0f * px / (float)fp.width - 1.0f) * fp.tan_half_fov * aspect;
-        const float sy = (1.0f - 2.0f * py / (float)fp.height) * fp.tan_half_fov;
-        PfRay ray;
-        ray.o = eye;
-        ray.d = normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2],
-                                   c2w[4] * sx + c2w[5] * sy - c2w[6],
-                                   c2w[8] * sx + c2w[9] * sy - c2w[10]));
-        ray.tmax = PF_INFINITY;
-        float first[8];
-        const float3 l = pf_trace_path(&s, &fp, ray, &sampler, &rays, &nonfinite, first);
-        if (fp.first_hits && k == fp.first_sample)
-            for (int w = 0; w < 8; ++w)
-                first_hits[8 * ((size_t)row * (size_t)fp.width + (size_t)x) + w] = first[w];
+        const PfRay ray = pf_camera_ray(&fp, (float)x + jitter.x, (float)y + jitter.y);
+        const float3 l = pf_trace_path(&s, &fp, ray, &sampler, &rays, &nonfinite);
 #ifdef cl_khr_fp64
         sum += convert_double3(l);
 #else
@@ -236,6 +240,9 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
 #endif
     }
     const size_t o = (size_t)row * (size_t)fp.width + (size_t)x;
+    if (fp.first_hits)
+        pf_first_hit(&s, pf_camera_ray(&fp, (float)x + 0.5f, (float)y + 0.5f), first_hits + 8 * o,
+                     &rays);
 #ifdef cl_khr_fp64
     const double inv_spp = 1.0 / (double)max(fp.spp, 1);
     out[3 * o + 0] = (float)(sum.x * inv_spp);

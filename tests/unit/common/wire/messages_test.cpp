@@ -38,7 +38,7 @@ void expect_error(const Result<T>& r, const std::string& part) {
 }
 
 TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
-    const Assignment a{7, 7, 8, 24, 320, 180, 4, 99, 6, 0.5f};
+    const Assignment a{7, 7, 8, 24, 320, 180, 4, 99, 6, 0.5f, true};
     const Assignment b = tracer_message<Assignment>(encode_assignment(a));
     EXPECT_EQ(b.frame, 7u);
     EXPECT_EQ(b.y0, 8u);
@@ -48,6 +48,8 @@ TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
     EXPECT_EQ(b.seed, 99u);
     EXPECT_EQ(b.max_depth, 6u);
     EXPECT_EQ(b.rr_scale, 0.5f);
+    EXPECT_TRUE(b.first_hits);
+    EXPECT_FALSE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).first_hits);
     EXPECT_EQ(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).rr_scale, 1.0f)
         << "absent roulette scale means 1";
     expect_error(decode_for_tracer(encode_assignment({1, 1, 4, 4, 8, 8})), "rows [4, 4)");
@@ -73,16 +75,17 @@ TEST(WireMessages, TruncationIsItsOwnMessage) {
 }
 
 TEST(WireMessages, TileRoundTripsAndIsChecked) {
-    const Tile t{3, 3, 16, 24, "zstd-bytes", 192, 12.5, {100, 200}, {1000, 2000}};
+    const Tile t{3, 3, 16, 24, "zstd-bytes", 192, 12.5, {100, 200}, {1000, 2000}, "hits"};
     auto d = decode_tile(encode_tile(t));
     ASSERT_TRUE(d.ok()) << d.error().message;
     EXPECT_EQ(d->y0, 16u);
     EXPECT_EQ(d->rgb_zstd, "zstd-bytes");
+    EXPECT_EQ(d->first_hits_zstd, "hits");
     EXPECT_EQ(d->render_ms, 12.5);
     EXPECT_EQ(d->unit_cost_us, (std::vector<uint32_t>{100, 200}));
     EXPECT_EQ(d->unit_rays, (std::vector<uint64_t>{1000, 2000}));
     expect_error(decode_tile(encode_tile(tile_of(24, 16, 0, 0.0))), "rows [24, 16)");
-    expect_error(decode_tile(encode_tile({3, 3, 0, 4, "x", 48, 1.0, {1, 2}, {}})),
+    expect_error(decode_tile(encode_tile({3, 3, 0, 4, "x", 48, 1.0, {1, 2}, {}, {}})),
                  "2 unit costs and 0 unit rays for 1 units");
     expect_error(decode_tile(encode_tile(tile_of(0, 4, 48, -1.0))), "render time -1");
     expect_error(decode_tile(encode_tile(tile_of(0, 4, 47, 1.0))), "47 raw bytes");

@@ -3,10 +3,12 @@
 // tracer leaving mid-frame, snapshots for late tracers, and malformed tiles refused.
 #include "coordinator/session/tracer_pool.h"
 
+#include <optional>
 #include <thread>
 
 #include <gtest/gtest.h>
 
+#include "common/film/first_hits.h"
 #include "common/film/float_codec.h"
 #include "common/wire/messages.h"
 #include "tests/support/memory_session.h"
@@ -38,8 +40,9 @@ Sent sent_to(MemorySession& s) {
     return out;
 }
 
-// A tile of rows [y0, y1) whose pixels all hold `value`.
-std::string tile(uint64_t frame, int y0, int y1, float value) {
+// A tile of rows [y0, y1) whose pixels all hold `value`, with first hits on `instance` if given.
+std::string tile(uint64_t frame, int y0, int y1, float value,
+                 std::optional<uint32_t> instance = std::nullopt) {
     std::vector<float> rgb(std::size_t(y1 - y0) * kWidth * 3, value);
     wire::Tile t{frame,
                  frame,
@@ -49,7 +52,14 @@ std::string tile(uint64_t frame, int y0, int y1, float value) {
                  uint32_t(rgb.size() * 4),
                  2.0,
                  {},
+                 {},
                  {}};
+    if (instance) {
+        std::vector<FirstHit> hits(std::size_t(y1 - y0) * kWidth);
+        for (FirstHit& h : hits)
+            h = FirstHit{float(y0), *instance, Vec3(0, 0, 1), Rgb(value)};
+        t.first_hits_zstd = encode_first_hits(hits.data(), hits.size());
+    }
     for (int y = y0; y < y1; y += kRowsPerWorkUnit) {
         t.unit_cost_us.push_back(500);
         t.unit_rays.push_back(1000);
@@ -70,12 +80,12 @@ protected:
             pool_->add(sessions_.back());
         }
     }
-    void begin(uint64_t frame, int height) {
+    void begin(uint64_t frame, int height, bool first_hits = false) {
         const FrameCommit commit{&commit_, &commit_, [this](bool) {
                                      ++snapshots_;
                                      return snapshot_;
                                  }};
-        pool_->begin(FrameWork{frame, kWidth, height, 1, 1.0f, 0, 4}, commit, true);
+        pool_->begin(FrameWork{frame, kWidth, height, 1, 1.0f, 0, 4, first_hits}, commit, true);
     }
     // Waits for the frame on another thread while `respond` plays the tracers. If `respond`
     // gave up (a failed assertion), the wait is stopped after 3 s instead of hanging.
@@ -224,6 +234,30 @@ TEST_F(TracerPoolTest, MalformedAndMisfitTilesAreRefused) {
     sessions_[1]->deliver(tile(0, 8, 24, 1.0f));  // rows beyond the frame
     EXPECT_FALSE(sessions_[1]->open());
     EXPECT_NE(sessions_[1]->rejection().find("do not fit"), std::string::npos);
+}
+
+TEST_F(TracerPoolTest, FirstHitsAreAssembledWhenAskedAndRequiredThen) {
+    start("none", std::chrono::seconds(10));
+    begin(0, 16, true);
+    ASSERT_TRUE(sent_to(*sessions_[0]).assignments.at(0).first_hits);
+    const auto result = wait([&] {
+        sessions_[0]->deliver(tile(0, 0, 8, 1.0f, 5u));
+        sessions_[1]->deliver(tile(0, 8, 16, 2.0f, 6u));
+    });
+    ASSERT_EQ(result, TracerPool::Wait::complete);
+    const FrameOutcome out = pool_->finish();
+    ASSERT_EQ(out.first_hits.size(), std::size_t(kWidth) * 16);
+    EXPECT_EQ(out.first_hits[std::size_t(3) * kWidth + 1].instance, 5u);
+    EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].instance, 6u);
+    EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].distance, 8.0f);
+    EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].albedo, Rgb(2.0f));
+    begin(1, 16, true);
+    sessions_[0]->deliver(tile(1, 0, 8, 1.0f));  // the hits the assignment asked for are missing
+    EXPECT_FALSE(sessions_[0]->open());
+    EXPECT_NE(sessions_[0]->rejection().find("first hits"), std::string::npos);
+    begin(2, 16);
+    EXPECT_FALSE(sent_to(*sessions_[1]).assignments.back().first_hits);
+    EXPECT_TRUE(pool_->finish().first_hits.empty());
 }
 
 }  // namespace
