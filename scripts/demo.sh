@@ -51,7 +51,8 @@ awk -F, 'NR > 1 { spp += $7; w += $9; h += $10; n++ }
   END { if (n) printf "quality: mean %.2f spp at %.0fx%.0f (workload scaling)\n", spp / n, w / n, h / n }' \
   "$out/stats.csv"
 seconds=$(grep -o "seconds=[0-9.]*" "$out/coordinator.log" | cut -d= -f2)
-awk -F, -v s="$seconds" 'NR > 1 { ms[$2] += $5; n[$2]++ }
-  END { for (t in ms) printf "%s: %d frames, utilisation %.0f%% of %.2f s\n", t, n[t], 100 * ms[t] / 1000 / s, s }' \
+awk -F, -v s="$seconds" 'NR > 1 { ms[$2] += $5; up[$2] += $7; n[$2]++ }
+  END { for (t in ms) printf "%s: %d frames, utilisation %.0f%% of %.2f s rendering, %.1f%% updating the scene\n",
+        t, n[t], 100 * ms[t] / 1000 / s, s, 100 * up[t] / 1000 / s }' \
   "$out/tracers.csv" | sort
 echo "demo: wrote $out/frames/ ($(ls "$out/frames" | wc -l) frames), $out/contact_sheet.png, $out/stats.csv"

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <thread>
+#include <utility>
 
 #include "common/base/timer.h"
 #include "common/base/work_unit.h"
@@ -57,8 +58,10 @@ Status FrameWorker::render(const wire::Assignment& a) {
         return make_error(ErrorCode::invalid_argument,
                           "assignment for commit {} but the replica holds {}", a.commit,
                           replica_.commit());
+    const Timer update;
     if (replica_.scene_changed())
         if (Status s = update_backend(); !s) return s;
+    update_ms_ += update.milliseconds();
     RenderJob job;
     job.frame = FrameSpec{int(a.width),
                           int(a.height),
@@ -82,7 +85,7 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
     std::vector<float> rgb(std::size_t(y1 - y0) * a.width * 3);
     std::vector<FirstHit> hits(a.first_hits ? std::size_t(y1 - y0) * a.width : 0);
     job.first_hits = a.first_hits ? hits.data() : nullptr;
-    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y0), {}, 0, 0.0, {}, {}, {}};
+    wire::Tile tile{a.frame, a.commit, uint32_t(y0), uint32_t(y0), {}, 0, 0.0, {}, {}, {}, 0.0};
     const Timer tile_timer;
     const double slowdown = frame_slowdown(options_, a.frame);
     // A slowed-down tracer keeps the unit loop: its emulated slowness is spread over units, as
@@ -102,6 +105,7 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
         tile.first_hits_zstd = encode_first_hits(hits.data(), hits.size());
     }
     tile.render_ms = tile_timer.milliseconds();
+    tile.update_ms = std::exchange(update_ms_, 0.0);
     send_(wire::encode_tile(tile));
     return {};
 }

@@ -47,7 +47,8 @@ private:
     Send send_;
     RenderControl control_;
     Replica replica_;
-    SceneModel scene_;  // what the backend renders; outlives its use by the backend
+    SceneModel scene_;        // what the backend renders; outlives its use by the backend
+    double update_ms_ = 0.0;  // this frame's replica and backend update, sent with its first tile
 };
 
 }  // namespace pathfarm::tracer

@@ -102,6 +102,7 @@ std::string encode_tile(const Tile& t) {
     for (uint64_t rays : t.unit_rays)
         w->add_unit_rays(rays);
     w->set_first_hits_zstd(t.first_hits_zstd);
+    w->set_update_ms(t.update_ms);
     return e.SerializeAsString();
 }
 Result<Tile> decode_tile(const std::string& bytes) {
@@ -117,7 +118,8 @@ Result<Tile> decode_tile(const std::string& bytes) {
            w.render_ms(),
            {w.unit_cost_us().begin(), w.unit_cost_us().end()},
            {w.unit_rays().begin(), w.unit_rays().end()},
-           w.first_hits_zstd()};
+           w.first_hits_zstd(),
+           w.update_ms()};
     const std::size_t units =
         (std::size_t(t.y1 - std::min(t.y0, t.y1)) + kRowsPerWorkUnit - 1) / kRowsPerWorkUnit;
     if (t.y0 >= t.y1 || t.y1 > kMaxImageSide)
@@ -126,9 +128,11 @@ Result<Tile> decode_tile(const std::string& bytes) {
         return make_error(ErrorCode::parse_error,
                           "tile: {} unit costs and {} unit rays for {} units",
                           t.unit_cost_us.size(), t.unit_rays.size(), units);
-    if (!std::isfinite(t.render_ms) || t.render_ms < 0.0 || t.raw_bytes % (3 * sizeof(float)) != 0)
-        return make_error(ErrorCode::parse_error, "tile: render time {} ms or {} raw bytes",
-                          t.render_ms, t.raw_bytes);
+    if (!std::isfinite(t.render_ms) || t.render_ms < 0.0 || !std::isfinite(t.update_ms) ||
+        t.update_ms < 0.0 || t.raw_bytes % (3 * sizeof(float)) != 0)
+        return make_error(ErrorCode::parse_error,
+                          "tile: render time {} ms, update time {} ms or {} raw bytes", t.render_ms,
+                          t.update_ms, t.raw_bytes);
     return t;
 }
 

@@ -47,6 +47,7 @@ struct Tile {
     std::vector<uint32_t> unit_cost_us;
     std::vector<uint64_t> unit_rays;
     std::string first_hits_zstd;  // encode_first_hits, ids as the commit's; empty unless asked
+    double update_ms = 0.0;       // replica and backend update before the frame (first tile)
 };
 
 // Client -> coordinator: one input, with its sequence number and send time for latency.

@@ -13,7 +13,7 @@ inline constexpr std::string_view kFrameStatsColumns =
     "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp,rr_scale,render_width,"
     "render_height,f,kept,at_floor,display_ms,wall_ms";
 inline constexpr std::string_view kTracerStatsColumns =
-    "frame,tracer,first_row,rows,render_ms,rows_delivered";
+    "frame,tracer,first_row,rows,render_ms,rows_delivered,update_ms";
 inline constexpr std::string_view kStageColumns =
     "frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_and_stream_ms";
 inline constexpr std::string_view kUnitCostColumns = "frame,unit,cost_us";

@@ -6,12 +6,13 @@
 namespace pathfarm::coord {
 
 WorkloadScaler::WorkloadScaler(const ScalerOptions& options) : o_(options) {
-    for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 2 ? (spp * 2) / 3 : spp - 1)
+    // Steps of at most about 1.5x in work: a coarser ladder leaves the budget unused.
+    for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 4 ? (spp * 2) / 3 : spp - 1)
         ladder_.push_back({spp, 1.0f, 1.0f});
     for (float rr : {0.75f, 0.5f, 0.35f})
         if (rr >= o_.min_rr_scale) ladder_.push_back({1, rr, 1.0f});
     const float rr = ladder_.back().rr_scale;
-    for (float res : {0.85f, 0.7f, 0.6f, 0.5f, 0.4f, 0.3f})
+    for (float res : {0.9f, 0.8f, 0.7f, 0.6f, 0.5f, 0.4f, 0.3f})
         if (res >= o_.min_resolution) ladder_.push_back({1, rr, res});
 }
 
@@ -23,24 +24,31 @@ double WorkloadScaler::work(const QualityLevel& l) {
     return double(l.spp) * double(l.resolution) * double(l.resolution) * path;
 }
 
-void WorkloadScaler::observe(double frame_ms) {
+double WorkloadScaler::predict_ms(const QualityLevel& l) const {
+    return fixed_ms_ + ms_per_work_ * work(l);
+}
+
+void WorkloadScaler::observe(double frame_ms, double render_ms) {
     if (!(frame_ms > 0.0)) return;
-    const double k = frame_ms / work(level());
-    // Learn k: adopt a sudden slowdown at once, smooth everything else.
-    ms_per_work_ = ms_per_work_ == 0.0 || k > 1.3 * ms_per_work_ ? k : 0.7 * ms_per_work_ + 0.3 * k;
+    const double scaling = render_ms > 0.0 ? std::min(render_ms, frame_ms) : frame_ms;
+    const double k = scaling / work(level()), fixed = frame_ms - scaling;
+    // Learn k and the fixed part: adopt a sudden slowdown at once, smooth everything else.
+    const bool first = ms_per_work_ == 0.0;
+    ms_per_work_ = first || k > 1.3 * ms_per_work_ ? k : 0.7 * ms_per_work_ + 0.3 * k;
+    fixed_ms_ = first || fixed > 1.3 * fixed_ms_ + 5.0 ? fixed : 0.7 * fixed_ms_ + 0.3 * fixed;
     const double budget = o_.headroom * 1000.0 / o_.target_fps;
     std::size_t best = ladder_.size() - 1;  // the best level predicted to fit
     for (std::size_t i = 0; i < ladder_.size(); ++i)
-        if (ms_per_work_ * work(ladder_[i]) <= budget) {
+        if (predict_ms(ladder_[i]) <= budget) {
             best = i;
             break;
         }
     if (best > index_) {
         index_ = best;  // too slow: drop as far as needed at once
-    } else if (best < index_ && ms_per_work_ * work(ladder_[index_ - 1]) <= 0.85 * budget) {
+    } else if (best < index_ && predict_ms(ladder_[index_ - 1]) <= o_.rise_margin * budget) {
         --index_;  // room to spare: one level up, with a margin
     }
-    at_floor_ = index_ == ladder_.size() - 1 && ms_per_work_ * work(level()) > budget / o_.headroom;
+    at_floor_ = index_ == ladder_.size() - 1 && predict_ms(level()) > budget / o_.headroom;
 }
 
 }  // namespace pathfarm::coord

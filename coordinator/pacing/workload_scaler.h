@@ -3,11 +3,13 @@
 // roulette survival probability, then the render resolution (upscaled for display). It never
 // goes below the configured floor; when even the floor is too slow it says so (at_floor()).
 //
-// The controller predicts a level's frame time as k * work(level), where work is the relative
-// cost (spp x pixels x a path-length factor) and k is learned from the frames it sees: a
-// capacity drop (a tracer leaves) shows as a jump in k and is acted on at once; rises in
-// quality need the prediction to fit with a margin, one level per frame, so it does not
-// oscillate.
+// The controller predicts a level's frame time as fixed + k * work(level), where work is the
+// relative cost (spp x pixels x a path-length factor), k is learned from the tracers' render
+// time and `fixed` from the rest of the frame (commit, replica and backend updates, tile
+// transfer), which no quality level changes: scaling all of the frame time with the work
+// left a third of the tracers' time unused. A capacity drop (a tracer leaves) shows as a
+// jump in k and is acted on at once; rises in quality need the prediction to fit with a
+// margin, one level per frame, so it does not oscillate.
 #pragma once
 
 #include <vector>
@@ -25,7 +27,8 @@ struct ScalerOptions {
     int max_spp = 1;
     float min_rr_scale = 0.5f;
     float min_resolution = 0.5f;
-    double headroom = 0.85;  // aim frame time at this fraction of the frame interval
+    double headroom = 0.85;     // aim frame time at this fraction of the frame interval
+    double rise_margin = 0.92;  // a better level must be predicted within this much of that
 };
 
 class WorkloadScaler {
@@ -33,9 +36,11 @@ public:
     explicit WorkloadScaler(const ScalerOptions& options);
 
     const QualityLevel& level() const { return ladder_[index_]; }
-    // Reports how long the frame rendered at level() took (assignment to last tile), and
+    // Reports how long the frame rendered at level() took (assignment to last tile) and how
+    // much of that the slowest tracer spent rendering (<= 0: unknown, all of it scales), and
     // picks the level of the next frame.
-    void observe(double frame_ms);
+    void observe(double frame_ms, double render_ms = 0.0);
+    double predict_ms(const QualityLevel& level) const;
     // The lowest level is in use and still slower than the target.
     bool at_floor() const { return at_floor_; }
     const std::vector<QualityLevel>& ladder() const { return ladder_; }
@@ -46,6 +51,7 @@ private:
     std::vector<QualityLevel> ladder_;  // best first
     std::size_t index_ = 0;
     double ms_per_work_ = 0.0;  // learned k; 0 until the first frame
+    double fixed_ms_ = 0.0;     // learned per-frame time that does not scale with the work
     bool at_floor_ = false;
 };
 

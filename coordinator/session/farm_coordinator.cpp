@@ -67,7 +67,7 @@ private:
     bool converged_and_unchanged(const PreparedFrame& p) const;
     void begin_frame(uint64_t frame, const PreparedFrame& p, bool render);
     FrameWork next_work(uint64_t frame) const;
-    void observe_frame_time(double frame_ms);
+    void observe_frame_time(double frame_ms, const FrameOutcome& outcome);
     void show(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered);
     void log_rate(uint64_t frame, int completed);
     void shut_down();
@@ -168,10 +168,14 @@ void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {
     tracers_.begin(work_, commit, render);
 }
 
-void Farm::observe_frame_time(double frame_ms) {
+// The slowest tracer's render time is the part of the frame that scales with the quality.
+void Farm::observe_frame_time(double frame_ms, const FrameOutcome& outcome) {
     if (!scaler_) return;
     const bool was_at_floor = scaler_->at_floor();
-    scaler_->observe(frame_ms);
+    double render_ms = 0.0;
+    for (const TracerFrameStats& t : outcome.tracers)
+        render_ms = std::max(render_ms, t.render_ms);
+    scaler_->observe(frame_ms, render_ms);
     if (scaler_->at_floor() && !was_at_floor)
         spdlog::warn(
             "workload scaling: at the quality floor ({} spp, roulette {}, {:.0f}% size) and "
@@ -202,7 +206,7 @@ void Farm::show(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool re
                      int(scaler_ && scaler_->at_floor()), display_ms, run_clock_.milliseconds());
     for (const TracerFrameStats& t : outcome.tracers)
         tracer_stats_.row(work_.frame, t.name, t.first_range.y0, t.first_range.rows(), t.render_ms,
-                          t.rows_delivered);
+                          t.rows_delivered, t.update_ms);
     for (std::size_t u = 0; u < outcome.units.size(); ++u)
         costs_.row(work_.frame, u, outcome.units[u].us);
     clients_.send(image, work_.frame, p.update.last_input_sequence);
@@ -255,9 +259,10 @@ Status Farm::run(const std::atomic<bool>& stop) {
         const TracerPool::Wait end = tracers_.wait_for_frame(stop);
         if (end != TracerPool::Wait::complete) continue;
         const double wait_ms = stage.milliseconds(), frame_ms = frame_timer.milliseconds();
-        observe_frame_time(frame_ms);
         stage.reset();
-        show(current, tracers_.finish(), frame_ms, true);
+        FrameOutcome outcome = tracers_.finish();
+        observe_frame_time(frame_ms, outcome);
+        show(current, std::move(outcome), frame_ms, true);
         stages_.row(f, send_ms, prepare_ms, wait_ms, stage.milliseconds());
         log_rate(f, ++completed);
     }

@@ -84,6 +84,7 @@ void TracerPool::sync(Tracer& t, const FrameCommit& commit,
     t.replica_commit = work_.frame;
     t.assigned.clear();
     t.render_ms = 0.0;
+    t.update_ms = 0.0;
     t.tile_rows = 0;
     t.stole_at.reset();
 }
@@ -148,6 +149,7 @@ void TracerPool::on_tile(uint64_t id, const std::string& bytes) {
     assembler_->add(range, rgb->data(), work_.first_hits ? hits->data() : nullptr);
     Tracer& t = it->second;
     t.render_ms += tile->render_ms;
+    t.update_ms += tile->update_ms;
     t.tile_rows += range.rows();
     t.news_at = now_();
     if (t.stole_at) {
@@ -253,8 +255,8 @@ FrameOutcome TracerPool::finish() {
     for (auto& [id, t] : tracers_) {
         if (t.replica_commit != work_.frame || t.render_ms <= 0.0) continue;
         busy.push_back(t.render_ms);
-        out.tracers.push_back(
-            {t.name, t.first_assignment, t.render_ms, delivered_rows(units_, id, work_.height)});
+        out.tracers.push_back({t.name, t.first_assignment, t.render_ms,
+                               delivered_rows(units_, id, work_.height), t.update_ms});
         t.measured_frame = work_.frame;
         t.measured = tracer_feedback(t.first_assignment, t.render_ms,
                                      delivered_cost(units_, last_unit_cost_, id));

@@ -75,17 +75,20 @@ TEST(WireMessages, TruncationIsItsOwnMessage) {
 }
 
 TEST(WireMessages, TileRoundTripsAndIsChecked) {
-    const Tile t{3, 3, 16, 24, "zstd-bytes", 192, 12.5, {100, 200}, {1000, 2000}, "hits"};
+    const Tile t{3, 3, 16, 24, "zstd-bytes", 192, 12.5, {100, 200}, {1000, 2000}, "hits", 1.5};
     auto d = decode_tile(encode_tile(t));
     ASSERT_TRUE(d.ok()) << d.error().message;
     EXPECT_EQ(d->y0, 16u);
     EXPECT_EQ(d->rgb_zstd, "zstd-bytes");
     EXPECT_EQ(d->first_hits_zstd, "hits");
+    EXPECT_EQ(d->update_ms, 1.5);
+    expect_error(decode_tile(encode_tile({3, 3, 0, 4, "x", 48, 1.0, {}, {}, {}, -2.0})),
+                 "update time -2");
     EXPECT_EQ(d->render_ms, 12.5);
     EXPECT_EQ(d->unit_cost_us, (std::vector<uint32_t>{100, 200}));
     EXPECT_EQ(d->unit_rays, (std::vector<uint64_t>{1000, 2000}));
     expect_error(decode_tile(encode_tile(tile_of(24, 16, 0, 0.0))), "rows [24, 16)");
-    expect_error(decode_tile(encode_tile({3, 3, 0, 4, "x", 48, 1.0, {1, 2}, {}, {}})),
+    expect_error(decode_tile(encode_tile({3, 3, 0, 4, "x", 48, 1.0, {1, 2}, {}, {}, 0.0})),
                  "2 unit costs and 0 unit rays for 1 units");
     expect_error(decode_tile(encode_tile(tile_of(0, 4, 48, -1.0))), "render time -1");
     expect_error(decode_tile(encode_tile(tile_of(0, 4, 47, 1.0))), "47 raw bytes");

@@ -51,6 +51,26 @@ TEST(WorkloadScaler, HoldsTheTargetAsCapacityHalvesAndRecovers) {
     EXPECT_EQ(s.level().spp, spp_before);
 }
 
+// Frames of 17 ms that no level changes plus ms_per_work x work, recovering from a slow spell:
+// told the render part, the scaler climbs back to within a step of the budget; taking the
+// whole frame as scaling with the work, it stops lower (a rise looks costlier than it is).
+TEST(WorkloadScaler, UsesTheBudgetAroundAFixedPerFrameCost) {
+    const auto settle = [](bool told) {
+        WorkloadScaler s({10.0, 4, 0.35f, 0.3f});  // 100 ms frames, 85 ms budget
+        double frame = 0.0;
+        for (int i = 0; i < 60; ++i) {
+            const double render = (i < 20 ? 300.0 : 110.0) * WorkloadScaler::work(s.level());
+            frame = 17.0 + render;
+            s.observe(frame, told ? render : 0.0);
+        }
+        return frame;
+    };
+    const double told = settle(true), untold = settle(false);
+    EXPECT_LE(told, 85.0);
+    EXPECT_GE(told, 0.8 * 85.0) << "within a ladder step of the budget";
+    EXPECT_GT(told, untold + 5.0);
+}
+
 TEST(WorkloadScaler, SaysWhenEvenTheFloorIsTooSlow) {
     WorkloadScaler s({30.0, 4, 0.5f, 0.5f});
     run(s, 1000.0, 5);

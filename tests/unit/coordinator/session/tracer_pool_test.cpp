@@ -53,7 +53,8 @@ std::string tile(uint64_t frame, int y0, int y1, float value,
                  2.0,
                  {},
                  {},
-                 {}};
+                 {},
+                 0.25};
     if (instance) {
         std::vector<FirstHit> hits(std::size_t(y1 - y0) * kWidth);
         for (FirstHit& h : hits)
@@ -251,6 +252,8 @@ TEST_F(TracerPoolTest, FirstHitsAreAssembledWhenAskedAndRequiredThen) {
     EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].instance, 6u);
     EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].distance, 8.0f);
     EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].albedo, Rgb(2.0f));
+    ASSERT_EQ(out.tracers.size(), 2u);
+    EXPECT_EQ(out.tracers[0].update_ms, 0.25) << "the tracers' update times reach the stats";
     begin(1, 16, true);
     sessions_[0]->deliver(tile(1, 0, 8, 1.0f));  // the hits the assignment asked for are missing
     EXPECT_FALSE(sessions_[0]->open());
