@@ -92,6 +92,15 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev, con
     r.hy = int(std::floor(py));
     if (!on_screen || r.hx < 0 || r.hy < 0 || r.hx >= w || r.hy >= h) return r;
     const std::size_t j = std::size_t(r.hy) * w + r.hx;
+    if (!m.camera_moved && !r.object_moves) {
+        // The same pixel footprint over still surfaces: its history holds whichever of them
+        // the G-buffer names (it changes at edges when workload scaling changes the render
+        // size it is upscaled from), unless something that has moved since covered it.
+        const uint32_t was = prev.gbuffer.instance[j];
+        r.valid =
+            was == GBuffer::kNoInstance || (!m.moving.count(was) && view.instances.count(was));
+        return r;
+    }
     r.valid = prev.gbuffer.instance[j] == inst &&
               (inst == GBuffer::kNoInstance ||
                std::abs(prev.gbuffer.distance[j] - expected) <= depth_tolerance * expected);

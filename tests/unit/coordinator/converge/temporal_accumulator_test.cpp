@@ -44,7 +44,10 @@ GBuffer trace_gbuffer(const AccelSnapshot& accel, const Camera& camera, int widt
 
 // The G-buffer the farm makes of frame k of `scene` seen from `camera`: from the first hits of a
 // tracer's render of that frame, from the scene graph's model as a replica holds it.
-GBuffer first_hit_gbuffer(const SceneModel& scene, const Camera& camera, uint32_t k, int w, int h) {
+// `scale` < 1: workload scaling rendered that much smaller, the G-buffer is upscaled.
+GBuffer first_hit_gbuffer(const SceneModel& scene, const Camera& camera, uint32_t k, int display_w,
+                          int display_h, float scale = 1.0f) {
+    const int w = int(display_w * scale), h = int(display_h * scale);
     SceneGraph graph(scene);
     SceneModel model = to_scene_model(graph.state());
     model.cameras.at(0) = camera;
@@ -62,7 +65,7 @@ GBuffer first_hit_gbuffer(const SceneModel& scene, const Camera& camera, uint32_
     EXPECT_TRUE((*backend)->render_rows(job, rgb.data()).ok());
     for (FirstHit& hit : hits)  // as the tracer sends them: the scene graph's ids
         if (hit.hit()) hit.instance = model.instances.at(hit.instance).id;
-    return gbuffer_from_first_hits(hits, w, h, camera, w, h);
+    return gbuffer_from_first_hits(hits, w, h, camera, display_w, display_h);
 }
 
 struct Shot {
@@ -174,6 +177,25 @@ INSTANTIATE_TEST_SUITE_P(GBuffers, CameraMove, ::testing::Values(false, true),
                          [](const auto& param_info) {
                              return param_info.param ? "FirstHits" : "Exact";
                          });
+
+// A still view whose render size workload scaling changes: the upscaled G-buffer differs at
+// edges from frame to frame, yet every pixel keeps its history (the same footprint over still
+// surfaces), and keeps converging.
+TEST(TemporalAccumulator, AStillViewKeepsItsHistoryWhenTheRenderSizeChanges) {
+    const Shot s = shoot(cornell_camera());
+    TemporalAccumulator acc;
+    FrameView view = s.view;
+    for (int k = 1; k <= 8; ++k) {
+        const float scale = k % 3 == 0 ? 0.5f : k % 3 == 1 ? 1.0f : 0.75f;
+        view.gbuffer = first_hit_gbuffer(s.scene, s.view.camera, uint32_t(k), kSize, kSize, scale);
+        FloatImage img = frame(s, uint32_t(k));
+        const ConvergeStats st = acc.blend(img, view);
+        if (k > 1) {
+            EXPECT_EQ(st.kept, 1.0) << "frame " << k;
+        }
+    }
+    EXPECT_EQ(acc.min_history_frames(), 8.0f);
+}
 
 TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
     // builtin:default seen from its camera: the gold ball moves 0.4 m along x.
