@@ -39,7 +39,7 @@ def farm(build, work, tracers, threads, a):
     later = stats[1:]  # frame 0 carries the snapshot
     wire = statistics.mean(int(r["commit_bytes"]) + int(r["tile_bytes"]) for r in later)
     stage_ms = {k: statistics.median(float(r[k]) for r in stages[1:])
-                for k in ("send_ms", "prepare_next_ms", "wait_tiles_ms", "assemble_and_stream_ms")}
+                for k in ("send_ms", "prepare_next_ms", "wait_tiles_ms", "assemble_ms")}
     return fps, wire, stage_ms, statistics.median(float(r["idle_pct"]) for r in later)
 
 
@@ -82,9 +82,9 @@ def main():
                               "--log-level", "error"], "farm_bench")
                     error = rmse(os.path.join(work, "dump", f"frame_{checked:06d}.pfm"), render_ref)
                 runs.append([r, name, fps, round(wire), st["send_ms"], st["prepare_next_ms"], st["wait_tiles_ms"],
-                             st["assemble_and_stream_ms"], idle, ""])
+                             st["assemble_ms"], idle, ""])
     header = ["round", "setup", "frames_per_s", "wire_bytes_per_frame", "send_ms", "prepare_next_ms",
-              "wait_tiles_ms", "assemble_and_stream_ms", "idle_pct", "note"]
+              "wait_tiles_ms", "assemble_ms", "idle_pct", "note"]
     write_csv(os.path.join(a.out, "farm_runs.csv"), header, runs)
     med = {n: statistics.median(r[2] for r in runs if r[1] == n) for n in ("farm_2x1", "farm_1x2", "render_2threads")}
     summary = [[n, round(v, 3), round(v / med["render_2threads"], 3)] for n, v in med.items()]

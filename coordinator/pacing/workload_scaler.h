@@ -27,7 +27,9 @@ struct ScalerOptions {
     int max_spp = 1;
     float min_rr_scale = 0.5f;
     float min_resolution = 0.5f;
-    double headroom = 0.85;     // aim frame time at this fraction of the frame interval
+    // Aim frame time at this fraction of the frame interval: what is left is the loop's own
+    // prepare and send (the display runs beside the next frame: session/frame_display.h).
+    double headroom = 0.9;
     double rise_margin = 0.92;  // a better level must be predicted within this much of that
 };
 

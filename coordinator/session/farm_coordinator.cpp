@@ -21,6 +21,7 @@
 #include "coordinator/frame/frame_pipeline.h"
 #include "coordinator/pacing/workload_scaler.h"
 #include "coordinator/session/client_hub.h"
+#include "coordinator/session/frame_display.h"
 #include "coordinator/session/tracer_pool.h"
 
 namespace pathfarm::coord {
@@ -64,11 +65,11 @@ private:
     double target_fps() const { return o_.target_fps > 0.0 ? o_.target_fps : o_.fps; }
     Status listen(net::NetService& net);
     PreparedFrame prepare(uint64_t frame);
-    bool converged_and_unchanged(const PreparedFrame& p) const;
+    bool converged_and_unchanged(const PreparedFrame& p);
     void begin_frame(uint64_t frame, const PreparedFrame& p, bool render);
     FrameWork next_work(uint64_t frame) const;
     void observe_frame_time(double frame_ms, const FrameOutcome& outcome);
-    void show(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered);
+    void display(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered);
     void log_rate(uint64_t frame, int completed);
     void shut_down();
 
@@ -77,11 +78,11 @@ private:
     FramePipeline pipeline_;
     TracerPool tracers_;
     ClientHub clients_;
-    TemporalAccumulator accumulator_;
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     FrameWork work_;                        // of the frame being rendered
     Timer run_clock_;                       // since the farm started: stats' wall_ms
-    CsvWriter frame_stats_, tracer_stats_, stages_, costs_;
+    CsvWriter stages_;
+    FrameDisplay display_;  // after what it uses: clients_, run_clock_
     double last_line_s_ = 0.0;
     int completed_at_last_line_ = 0;
 };
@@ -93,10 +94,8 @@ Farm::Farm(SceneModel scene, const FarmOptions& o, std::unique_ptr<Balancer> bal
       pipeline_(std::move(scene), PipelineOptions{o.clip, 1.5}),
       tracers_(std::move(balancer), std::chrono::milliseconds(o.deadline_ms)),
       clients_(o.jpeg_quality),
-      frame_stats_(o.stats_csv, kFrameStatsColumns),
-      tracer_stats_(o.tracer_stats_csv, kTracerStatsColumns),
       stages_(o.stages_csv, kStageColumns),
-      costs_(o.record_costs, kUnitCostColumns) {
+      display_(o_, clients_, run_clock_) {
     SceneGraph& graph = pipeline_.graph();
     // A scene without a camera is framed from its bounds (DESIGN.md), as pathfarm-render
     // frames it, and the replicas get that camera like any other.
@@ -142,9 +141,9 @@ PreparedFrame Farm::prepare(uint64_t frame) {
 }
 
 // A still, unchanged view whose every pixel has converged renders nothing new.
-bool Farm::converged_and_unchanged(const PreparedFrame& p) const {
+bool Farm::converged_and_unchanged(const PreparedFrame& p) {
     return o_.converge && o_.converged_frames > 0 && p.update.unchanged &&
-           accumulator_.min_history_frames() >= float(o_.converged_frames);
+           display_.min_history_frames() >= float(o_.converged_frames);
 }
 
 FrameWork Farm::next_work(uint64_t frame) const {
@@ -186,33 +185,11 @@ void Farm::observe_frame_time(double frame_ms, const FrameOutcome& outcome) {
         spdlog::info("workload scaling: above the quality floor again");
 }
 
-// Display: upscale what workload scaling rendered smaller, converge, record, send, dump. A frame
-// that rendered nothing (converged and unchanged) shows the converged image again.
-void Farm::show(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered) {
-    FloatImage image = rendered ? std::move(outcome.image) : accumulator_.output();
-    const Timer display_timer;
-    if (image.width != o_.width || image.height != o_.height)
-        image = resize_bilinear(image, o_.width, o_.height);
-    ConvergeStats converged{0.0, 1.0, 0.0};
-    if (o_.converge && rendered) {
-        p.view.gbuffer = gbuffer_from_first_hits(outcome.first_hits, work_.width, work_.height,
-                                                 p.view.camera, o_.width, o_.height);
-        converged = accumulator_.blend(image, std::move(p.view));
-    }
-    const double display_ms = display_timer.milliseconds();
-    frame_stats_.row(work_.frame, tracers_.size(), frame_ms, outcome.idle_pct, p.plain_bytes,
-                     outcome.tile_bytes, rendered ? work_.spp : 0, work_.rr_scale, work_.width,
-                     work_.height, converged.mean_f, converged.kept,
-                     int(scaler_ && scaler_->at_floor()), display_ms, run_clock_.milliseconds());
-    for (const TracerFrameStats& t : outcome.tracers)
-        tracer_stats_.row(work_.frame, t.name, t.first_range.y0, t.first_range.rows(), t.render_ms,
-                          t.rows_delivered, t.update_ms);
-    for (std::size_t u = 0; u < outcome.units.size(); ++u)
-        costs_.row(work_.frame, u, outcome.units[u].us);
-    clients_.send(image, work_.frame, p.update.last_input_sequence);
-    if (o_.dump_frames.empty()) return;
-    const std::string path = fmt::format("{}/frame_{:06d}.pfm", o_.dump_frames, work_.frame);
-    if (Status s = write_image(path, image); !s) spdlog::error("{}", s.error().message);
+// Hands the frame to the display thread (FrameDisplay) with what it needs of this frame's state.
+void Farm::display(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered) {
+    display_.submit({work_, std::move(p.view), std::move(outcome), rendered, frame_ms,
+                     tracers_.size(), p.plain_bytes, scaler_ && scaler_->at_floor(),
+                     p.update.last_input_sequence});
 }
 
 void Farm::log_rate(uint64_t frame, int completed) {  // one stats line a second
@@ -250,7 +227,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
         stage.reset();
         if (!scaler_) next = prepare(f + 1);  // pipelined: N+1's commit while N renders
         if (skip) {
-            show(current, FrameOutcome{}, 0.0, false);
+            display(current, FrameOutcome{}, 0.0, false);
             ++completed;
             continue;
         }
@@ -262,7 +239,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
         stage.reset();
         FrameOutcome outcome = tracers_.finish();
         observe_frame_time(frame_ms, outcome);
-        show(current, std::move(outcome), frame_ms, true);
+        display(current, std::move(outcome), frame_ms, true);
         stages_.row(f, send_ms, prepare_ms, wait_ms, stage.milliseconds());
         log_rate(f, ++completed);
     }
@@ -276,6 +253,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
 // Sessions must not outlive the NetService (and its io_context) of run(): close them, and let
 // the writers flush what is queued (the last frame to clients) for at most two seconds.
 void Farm::shut_down() {
+    display_.finish();  // the last frames to the clients' queues first
     std::vector<std::shared_ptr<net::Session>> sessions = tracers_.stop_accepting();
     for (auto& s : clients_.stop_accepting())
         sessions.push_back(std::move(s));

@@ -13,6 +13,9 @@
 #include <sstream>
 #include <thread>
 
+#include <map>
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "tests/support/farm_harness.h"
@@ -44,8 +47,17 @@ TEST_P(FarmDeterminism, FramesEqualPathfarmRenderBitForBit) {
     for (int f : {0, 2})
         EXPECT_TRUE(test::images_identical(farm.frame(f), farm.reference(f)))
             << tracers << " tracers, frame " << f;
-    const auto rows = farm.csv("tracers.csv");
-    ASSERT_EQ(rows.size(), std::size_t(3 * tracers)) << "every tracer rendered every frame";
+    // Every tracer took part and every frame's rows were all delivered. A tracer may render
+    // nothing in a frame: on a loaded machine the others can take all its rows before it starts.
+    std::set<std::string> names;
+    std::map<int, int> delivered;
+    for (const auto& row : farm.csv("tracers.csv")) {
+        names.insert(row.at(1));
+        delivered[std::stoi(row.at(0))] += std::stoi(row.at(5));
+    }
+    EXPECT_EQ(names.size(), std::size_t(tracers));
+    for (int f = 0; f < 3; ++f)
+        EXPECT_EQ(delivered[f], Farm::kHeight) << "frame " << f;
 }
 
 INSTANTIATE_TEST_SUITE_P(Tracers, FarmDeterminism, ::testing::Values(1, 2, 3));

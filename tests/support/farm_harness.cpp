@@ -33,9 +33,9 @@ void Farm::start(std::vector<std::string> extra, int port) {
                                   "--client-port",
                                   "0",
                                   "--width",
-                                  "64",
+                                  std::to_string(kWidth),
                                   "--height",
-                                  "50",
+                                  std::to_string(kHeight),
                                   "--spp",
                                   std::to_string(spp),
                                   "--dump-frames",
@@ -76,10 +76,10 @@ int Farm::finish(std::chrono::milliseconds timeout) {
 
 std::string Farm::reference(int frame) {
     const std::string out = dir + "/reference_" + std::to_string(frame) + ".pfm";
-    Process render(
-        {kRender, "--scene", scene, "--width", "64", "--height", "50", "--spp", std::to_string(spp),
-         "--frame", std::to_string(frame), "--out", out, "--log-level", "error"},
-        dir + "/render.log");
+    Process render({kRender, "--scene", scene, "--width", std::to_string(kWidth), "--height",
+                    std::to_string(kHeight), "--spp", std::to_string(spp), "--frame",
+                    std::to_string(frame), "--out", out, "--log-level", "error"},
+                   dir + "/render.log");
     EXPECT_EQ(render.wait(30s), std::optional<int>(0)) << read_file(dir + "/render.log");
     return out;
 }

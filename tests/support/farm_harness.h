@@ -22,6 +22,7 @@ struct Farm {
     // pacing, workload scaling, converging or game logic); real-time tests clear it.
     std::vector<std::string> mode = {"--fixed-spp", "--no-converge", "--game", "free-camera"};
     int spp = 2;
+    static constexpr int kWidth = 64, kHeight = 50;  // every farm's frame size
     std::string scene = "builtin:default";
 
     Farm();

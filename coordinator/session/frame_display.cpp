@@ -1,0 +1,94 @@
+// The display thread: a queue of frames, shown one after another.
+#include "coordinator/session/frame_display.h"
+
+#include <spdlog/spdlog.h>
+
+#include "common/film/image_io.h"
+#include "common/film/resample.h"
+
+namespace pathfarm::coord {
+
+FrameDisplay::FrameDisplay(const FarmOptions& options, ClientHub& clients, const Timer& clock)
+    : o_(options),
+      clients_(clients),
+      clock_(clock),
+      frame_stats_(options.stats_csv, kFrameStatsColumns),
+      tracer_stats_(options.tracer_stats_csv, kTracerStatsColumns),
+      costs_(options.record_costs, kUnitCostColumns),
+      thread_([this] { run(); }) {}
+
+FrameDisplay::~FrameDisplay() { finish(); }
+
+void FrameDisplay::submit(DisplayJob job) {
+    std::unique_lock lock(mutex_);
+    cv_.wait(lock, [&] { return queue_.empty(); });
+    queue_.push_back(std::move(job));
+    cv_.notify_all();
+}
+
+float FrameDisplay::min_history_frames() {
+    std::unique_lock lock(mutex_);
+    cv_.wait(lock, [&] { return queue_.empty() && !busy_; });
+    return accumulator_.min_history_frames();
+}
+
+void FrameDisplay::finish() {
+    {
+        std::lock_guard lock(mutex_);
+        if (!thread_.joinable()) return;
+        stopping_ = true;
+        cv_.notify_all();
+    }
+    thread_.join();
+}
+
+void FrameDisplay::run() {
+    for (;;) {
+        std::unique_lock lock(mutex_);
+        cv_.wait(lock, [&] { return !queue_.empty() || stopping_; });
+        if (queue_.empty()) return;  // stopping, and everything shown
+        DisplayJob job = std::move(queue_.front());
+        queue_.pop_front();
+        busy_ = true;
+        cv_.notify_all();  // the loop may queue the next frame while this one is shown
+        lock.unlock();
+        show(job);
+        lock.lock();
+        busy_ = false;
+        cv_.notify_all();
+    }
+}
+
+// Upscale what workload scaling rendered smaller, converge, record, send, dump. A frame that
+// rendered nothing (converged and unchanged) shows the converged image again. display_ms is
+// all of it, on this thread.
+void FrameDisplay::show(DisplayJob& job) {
+    const Timer display_timer;
+    const FrameWork& w = job.work;
+    FloatImage image = job.rendered ? std::move(job.outcome.image) : accumulator_.output();
+    if (image.width != o_.width || image.height != o_.height)
+        image = resize_bilinear(image, o_.width, o_.height);
+    ConvergeStats converged{0.0, 1.0, 0.0};
+    if (o_.converge && job.rendered) {
+        job.view.gbuffer = gbuffer_from_first_hits(job.outcome.first_hits, w.width, w.height,
+                                                   job.view.camera, o_.width, o_.height);
+        converged = accumulator_.blend(image, std::move(job.view));
+    }
+    clients_.send(image, w.frame, job.last_input_sequence);
+    if (!o_.dump_frames.empty()) {
+        const std::string path = fmt::format("{}/frame_{:06d}.pfm", o_.dump_frames, w.frame);
+        if (Status s = write_image(path, image); !s) spdlog::error("{}", s.error().message);
+    }
+    const FrameOutcome& out = job.outcome;
+    frame_stats_.row(w.frame, job.tracers, job.frame_ms, out.idle_pct, job.commit_bytes,
+                     out.tile_bytes, job.rendered ? w.spp : 0, w.rr_scale, w.width, w.height,
+                     converged.mean_f, converged.kept, int(job.at_floor),
+                     display_timer.milliseconds(), clock_.milliseconds());
+    for (const TracerFrameStats& t : out.tracers)
+        tracer_stats_.row(w.frame, t.name, t.first_range.y0, t.first_range.rows(), t.render_ms,
+                          t.rows_delivered, t.update_ms);
+    for (std::size_t u = 0; u < out.units.size(); ++u)
+        costs_.row(w.frame, u, out.units[u].us);
+}
+
+}  // namespace pathfarm::coord

@@ -1,0 +1,63 @@
+// The display stage of the farm's frame loop (DESIGN.md, "The frame" step 6), on a thread of
+// its own: upscale what workload scaling rendered smaller, build the G-buffer from the first
+// hits and converge, write the statistics, encode and send to every client, dump. It runs
+// while the frame loop already starts the next frame, so the coordinator's own per-frame work
+// is off the tracers' critical path. Frames are shown in the order they are submitted.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "common/base/timer.h"
+#include "coordinator/converge/temporal_accumulator.h"
+#include "coordinator/frame/farm_stats.h"
+#include "coordinator/session/client_hub.h"
+#include "coordinator/session/farm_coordinator.h"
+#include "coordinator/session/tracer_pool.h"
+
+namespace pathfarm::coord {
+
+// One frame to show, with everything the display needs of the loop's state at the time.
+struct DisplayJob {
+    FrameWork work;         // what was rendered (size, spp, roulette)
+    FrameView view;         // camera, instances, cut; its G-buffer is made from the first hits
+    FrameOutcome outcome;   // the tiles' image, first hits and statistics
+    bool rendered = true;   // false: converged and unchanged, the last output again
+    double frame_ms = 0.0;  // assignment to last tile
+    std::size_t tracers = 0, commit_bytes = 0;
+    bool at_floor = false;  // workload scaling at its floor
+    uint64_t last_input_sequence = 0;
+};
+
+class FrameDisplay {
+public:
+    // `clock` gives the stats' wall_ms; it and `clients` outlive the display.
+    FrameDisplay(const FarmOptions& options, ClientHub& clients, const Timer& clock);
+    ~FrameDisplay();  // finishes what was submitted
+
+    // Queues a frame; waits while the previous one is still queued (one shown, one waiting).
+    void submit(DisplayJob job);
+    // Least frames of history over the pixels once every submitted frame is shown.
+    float min_history_frames();
+    void finish();  // shows what was submitted and stops the thread
+
+private:
+    void run();
+    void show(DisplayJob& job);
+
+    const FarmOptions& o_;
+    ClientHub& clients_;
+    const Timer& clock_;
+    TemporalAccumulator accumulator_;
+    CsvWriter frame_stats_, tracer_stats_, costs_;
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::deque<DisplayJob> queue_;
+    bool busy_ = false, stopping_ = false;
+    std::thread thread_;  // last: starts once everything above exists
+};
+
+}  // namespace pathfarm::coord
