@@ -6,13 +6,17 @@
 # tracer's utilisation and the client's input latency, and writes the frames (JPEG) and a
 # contact sheet to out/.
 # Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10),
-# BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them).
+# BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them),
+# OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
+# bench/demo_ab.py).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/install_deps.sh"
-"$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF -DPATHFARM_BUILD_BENCH=ON
-bin="$root/build/release"
-out="$root/out"
+if [ -z "${BIN:-}" ]; then
+  "$root/scripts/install_deps.sh"
+  "$root/scripts/build.sh" "$root/build/release" -DPATHFARM_BUILD_TESTS=OFF -DPATHFARM_BUILD_BENCH=ON
+fi
+bin="${BIN:-$root/build/release}"
+out="${OUT:-$root/out}"
 frames="${FRAMES:-100}" width="${WIDTH:-320}" height="${HEIGHT:-180}" spp="${SPP:-4}"
 target="${TARGET_FPS:-10}"
 rm -rf "$out" && mkdir -p "$out/frames"
@@ -25,7 +29,8 @@ trap cleanup EXIT
 "$bin/coordinator/pathfarm-coordinator" --scene builtin:default --tracer-port 0 --client-port 0 \
   --width "$width" --height "$height" --spp "$spp" --frames "$frames" --min-tracers 2 \
   --target-fps "$target" --fps "$target" \
-  --stats-csv "$out/stats.csv" --tracer-stats-csv "$out/tracers.csv" > "$out/coordinator.log" 2>&1 &
+  --stats-csv "$out/stats.csv" --tracer-stats-csv "$out/tracers.csv" --stages-csv "$out/stages.csv" \
+  > "$out/coordinator.log" 2>&1 &
 coordinator=$!
 for _ in $(seq 100); do grep -q "tracer_port=" "$out/coordinator.log" && break; sleep 0.1; done
 tracer_port=$(grep -o "tracer_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
