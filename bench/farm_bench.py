@@ -36,6 +36,8 @@ def farm(build, work, tracers, threads, a):
     fps = float(wait_for(log, r"fps=([0-9.]+)", "farm_bench").group(1))
     stats = list(csv.DictReader(open(f"{work}/stats.csv")))
     stages = list(csv.DictReader(open(f"{work}/stages.csv")))
+    for r in stages:  # builds before the display thread wrote assemble_and_stream_ms
+        r.setdefault("assemble_ms", r.get("assemble_and_stream_ms", "0"))
     later = stats[1:]  # frame 0 carries the snapshot
     wire = statistics.mean(int(r["commit_bytes"]) + int(r["tile_bytes"]) for r in later)
     stage_ms = {k: statistics.median(float(r[k]) for r in stages[1:])
