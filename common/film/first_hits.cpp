@@ -1,10 +1,11 @@
-// First-hit planes: half floats through glm's packHalf1x16, then one zstd frame.
+// First-hit planes: half floats through glm's packHalf1x16, then one zstd frame (float_codec).
 #include "common/film/first_hits.h"
 
 #include <cstring>
 
-#include <zstd.h>
 #include <glm/gtc/packing.hpp>
+
+#include "common/film/float_codec.h"
 
 namespace pathfarm {
 namespace {
@@ -40,23 +41,13 @@ std::string encode_first_hits(const FirstHit* hits, std::size_t count) {
     for (int c = 0; c < 3; ++c)
         for (std::size_t i = 0; i < count; ++i)
             put(raw, at, uint16_t(glm::packHalf1x16(hits[i].albedo[c])));
-    std::string out(ZSTD_compressBound(raw.size()), '\0');
-    const std::size_t n = ZSTD_compress(out.data(), out.size(), raw.data(), raw.size(), 1);
-    out.resize(ZSTD_isError(n) ? 0 : n);
-    return out;
+    return compress_bytes(raw.data(), raw.size());
 }
 
 Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::size_t count) {
-    const unsigned long long size = ZSTD_getFrameContentSize(data.data(), data.size());
-    if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN ||
-        size != count * kBytesPerHit)
-        return make_error(ErrorCode::parse_error, "first hits: {} bytes announced, {} expected",
-                          size, count * kBytesPerHit);
-    std::string raw(size, '\0');
-    const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), data.data(), data.size());
-    if (ZSTD_isError(n) || n != size)
-        return make_error(ErrorCode::parse_error, "first hits: {}",
-                          ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short");
+    std::string raw(count * kBytesPerHit, '\0');
+    if (Status s = decompress_bytes(data, raw.data(), raw.size(), "first hits"); !s)
+        return s.error();
     std::vector<FirstHit> hits(count);
     std::size_t at = 0;
     for (FirstHit& h : hits)
