@@ -10,7 +10,7 @@
 namespace pathfarm {
 namespace {
 
-constexpr std::size_t kBytesPerHit = 2 * 4 + 6 * 2;
+constexpr std::size_t kBytesPerHit = 2 * 4 + 6 * 2 + 1;
 
 template <typename T>
 void put(std::string& out, std::size_t& at, T value) {
@@ -41,6 +41,8 @@ std::string encode_first_hits(const FirstHit* hits, std::size_t count) {
     for (int c = 0; c < 3; ++c)
         for (std::size_t i = 0; i < count; ++i)
             put(raw, at, uint16_t(glm::packHalf1x16(hits[i].albedo[c])));
+    for (std::size_t i = 0; i < count; ++i)
+        put(raw, at, uint8_t(hits[i].flags));
     return compress_bytes(raw.data(), raw.size());
 }
 
@@ -60,6 +62,8 @@ Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::si
     for (int c = 0; c < 3; ++c)
         for (FirstHit& h : hits)
             h.albedo[c] = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+    for (FirstHit& h : hits)
+        h.flags = get<uint8_t>(raw, at);
     return hits;
 }
 

@@ -13,21 +13,28 @@
 
 namespace pathfarm {
 
-// One pixel's first hit. Laid out as 8 four-byte words so the OpenCL kernel writes the same
+// One pixel's first hit. Laid out as 9 four-byte words so the OpenCL kernel writes the same
 // bytes (tracer-node/opencl/kernels/path_tracer.cl, pf_first_hit).
 struct FirstHit {
     static constexpr uint32_t kNone = 0xffffffffu;
+    // The pixel shows something a denoiser must not blur over its neighbours: an emitter seen
+    // directly, a mirror-like metal or a transmissive surface (common/render/path_tracer.cpp,
+    // first_hit_flags). Its light is not the base colour times a smooth irradiance.
+    static constexpr uint32_t kSharp = 1u;
     float distance = kInfinity;  // along the primary ray; +inf where it escaped
     uint32_t instance = kNone;   // SceneModel index in a backend; the commit's id on the wire
     Vec3 normal{0.0f};           // unit world-space shading normal, facing the camera
     Rgb albedo{0.0f};            // base colour at the hit (textures applied)
+    uint32_t flags = 0;          // kSharp
     bool hit() const { return instance != kNone; }
+    bool sharp() const { return (flags & kSharp) != 0; }
 };
-static_assert(sizeof(FirstHit) == 8 * sizeof(float), "FirstHit is the kernel's 8 words");
+static_assert(sizeof(FirstHit) == 9 * sizeof(float), "FirstHit is the kernel's 9 words");
 
 // Wire form (Tile.first_hits_zstd): planar distance (float32) and instance (uint32), normal and
-// albedo as IEEE half floats, zstd-compressed. Half precision is 1e-3 relative: plenty for
-// reprojection and edge-stopping weights, and 20 instead of 32 bytes a pixel.
+// albedo as IEEE half floats, flags as a byte, zstd-compressed. Half precision is 1e-3
+// relative: plenty for reprojection and edge-stopping weights, and 21 instead of 36 bytes a
+// pixel.
 std::string encode_first_hits(const FirstHit* hits, std::size_t count);
 // Fails unless `data` holds exactly `count` pixels.
 Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::size_t count);

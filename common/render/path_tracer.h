@@ -53,6 +53,10 @@ struct SampleCounters {
     }
 };
 
+// GGX alpha below which a metal's first hit is a mirror the denoiser keeps sharp (roughness
+// 0.2); the OpenCL kernel's PF_SHARP_MAX_ALPHA is the same.
+inline constexpr float kSharpMaxAlpha = 0.04f;
+
 class PathTracer {
 public:
     PathTracer(const ShadingScene& shading, const LightSampler& lights, const Intersector& kernel,
@@ -63,7 +67,8 @@ public:
         return (this->*trace_)(ray, sampler, counters);
     }
     // What `ray` meets first: its distance, instance, shading normal facing the ray (as the
-    // normal map bends it) and base colour. One closest-hit ray, counted.
+    // normal map bends it), base colour and whether a denoiser must keep it sharp (an emitter,
+    // transmission, or metal smoother than kSharpMaxAlpha). One closest-hit ray, counted.
     FirstHit first_hit(const Ray& ray, SampleCounters& counters) const;
     uint32_t features() const { return features_; }  // of the loop in use
 

@@ -16,6 +16,7 @@ void GBuffer::resize(int w, int h) {
     position.assign(n, Vec3(0.0f));
     normal.assign(n, Vec3(0.0f));
     albedo.assign(n, Rgb(0.0f));
+    sharp.assign(n, 0);
 }
 
 GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_width, int hits_height,
@@ -37,6 +38,7 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
             g.position[i] = ray.o + ray.d * h.distance;
             g.normal[i] = h.normal;
             g.albedo[i] = h.albedo;
+            g.sharp[i] = h.sharp() ? 1 : 0;
         }
     }
     return g;

@@ -18,6 +18,7 @@ struct GBuffer {
     std::vector<Vec3> position;      // world-space hit point (undefined where it escapes)
     std::vector<Vec3> normal;        // shading normal facing the camera (zero where it escapes)
     std::vector<Rgb> albedo;         // base colour (zero where it escapes)
+    std::vector<uint8_t> sharp;      // 1: the denoiser keeps the pixel's own light (FirstHit)
 
     static constexpr uint32_t kNoInstance = 0;  // instance ids start at 1
     bool hit(std::size_t i) const { return instance[i] != kNoInstance; }

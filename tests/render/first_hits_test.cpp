@@ -92,7 +92,7 @@ TEST_P(FirstHits, AreWhatThePixelCentresRayMeetsFirst) {
     const SceneModel scene = default_scene();
     const FrameSpec spec = spec_of(scene, 3);
     const Rendered r = render_rows(scene, GetParam(), spec, true);
-    int hits = 0, mismatched = 0;
+    int hits = 0, mismatched = 0, sharp = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
             const Ray ray = generate_camera_ray(spec.camera, kWidth, kHeight, x + 0.5f, y + 0.5f);
@@ -116,9 +116,24 @@ TEST_P(FirstHits, AreWhatThePixelCentresRayMeetsFirst) {
                 EXPECT_NEAR(glm::length(got.albedo - base), 0.0f, 1e-6f)
                     << "pixel " << x << "," << y;
             }
+            // Sharp: an emitter seen from its emitting side, glass, or a mirror-like metal.
+            const bool emits = max_component(m.emissive_factor) * m.emissive_strength > 0.0f &&
+                               !m.emissive_texture.valid();
+            const bool mirror = m.metallic_factor >= 0.5f &&
+                                m.roughness_factor * m.roughness_factor < kSharpMaxAlpha &&
+                                !m.metallic_roughness_texture.valid();
+            if (!m.emissive_texture.valid() && !m.metallic_roughness_texture.valid()) {
+                if (m.transmission_factor > 0.0f || mirror) {
+                    EXPECT_TRUE(got.sharp()) << "pixel " << x << "," << y;
+                } else if (!emits) {
+                    EXPECT_FALSE(got.sharp()) << "pixel " << x << "," << y;
+                }
+            }
+            sharp += got.sharp();
         }
     EXPECT_GT(hits, kWidth * kHeight / 2);
     EXPECT_LE(mismatched, hits / 100);
+    EXPECT_GT(sharp, 0) << "builtin:default shows an emitter, glass and gold";
 }
 
 TEST_P(FirstHits, LeaveTheRadianceAloneAndAgreeForAnySplit) {
@@ -152,6 +167,7 @@ TEST(FirstHitsAcrossBackends, OpenClAgreesWithEmbree) {
         EXPECT_NEAR(a.distance, b.distance, 1e-4f * a.distance) << "pixel " << i;
         EXPECT_GT(glm::dot(a.normal, b.normal), 0.999f) << "pixel " << i;
         EXPECT_LT(glm::length(a.albedo - b.albedo), 2e-3f) << "pixel " << i;
+        EXPECT_EQ(a.flags, b.flags) << "pixel " << i;
     }
     EXPECT_GE(same, int(e.hits.size()) * 99 / 100);
 }

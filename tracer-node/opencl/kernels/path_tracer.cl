@@ -170,8 +170,9 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
     return radiance;
 }
 
-// What a camera ray meets first, as FirstHit's 8 words (common/film/first_hits.h): distance,
-// instance, shading normal facing the ray, base colour (PathTracer::first_hit).
+// What a camera ray meets first, as FirstHit's 9 words (common/film/first_hits.h): distance,
+// instance, shading normal facing the ray, base colour, flags (PathTracer::first_hit).
+#define PF_SHARP_MAX_ALPHA 0.04f
 void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) {
     PfHit hit;
     ++*rays;
@@ -179,15 +180,20 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
         out[0] = PF_INFINITY;
         out[1] = as_float(0xffffffffu);
         for (int w = 2; w < 8; ++w) out[w] = 0.0f;
+        out[8] = as_float(0u);
         return;
     }
     PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
     const PfMaterialPoint mp = pf_material_point(s, &sp);
     const float3 n = dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns;
+    const float3 le = pf_emitted(s, &sp, -ray.d);
+    const bool sharp = fmax(le.x, fmax(le.y, le.z)) > 0.0f || mp.transmission > 0.0f ||
+                       (mp.metallic >= 0.5f && mp.alpha < PF_SHARP_MAX_ALPHA);
     out[0] = hit.t;
     out[1] = as_float(hit.instance);
     out[2] = n.x, out[3] = n.y, out[4] = n.z;
     out[5] = mp.base_color.x, out[6] = mp.base_color.y, out[7] = mp.base_color.z;
+    out[8] = as_float(sharp ? 1u : 0u);
 }
 
 // The camera ray through (px, py) in pixels (generate_camera_ray).
@@ -241,7 +247,7 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
     }
     const size_t o = (size_t)row * (size_t)fp.width + (size_t)x;
     if (fp.first_hits)
-        pf_first_hit(&s, pf_camera_ray(&fp, (float)x + 0.5f, (float)y + 0.5f), first_hits + 8 * o,
+        pf_first_hit(&s, pf_camera_ray(&fp, (float)x + 0.5f, (float)y + 0.5f), first_hits + 9 * o,
                      &rays);
 #ifdef cl_khr_fp64
     const double inv_spp = 1.0 / (double)max(fp.spp, 1);

@@ -58,7 +58,8 @@ std::string tile(uint64_t frame, int y0, int y1, float value,
     if (instance) {
         std::vector<FirstHit> hits(std::size_t(y1 - y0) * kWidth);
         for (FirstHit& h : hits)
-            h = FirstHit{float(y0), *instance, Vec3(0, 0, 1), Rgb(value)};
+            h = FirstHit{float(y0), *instance, Vec3(0, 0, 1), Rgb(value),
+                         *instance == 6u ? FirstHit::kSharp : 0u};
         t.first_hits_zstd = encode_first_hits(hits.data(), hits.size());
     }
     for (int y = y0; y < y1; y += kRowsPerWorkUnit) {
@@ -252,6 +253,8 @@ TEST_F(TracerPoolTest, FirstHitsAreAssembledWhenAskedAndRequiredThen) {
     EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].instance, 6u);
     EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].distance, 8.0f);
     EXPECT_EQ(out.first_hits[std::size_t(12) * kWidth + 1].albedo, Rgb(2.0f));
+    EXPECT_TRUE(out.first_hits[std::size_t(12) * kWidth + 1].sharp()) << "flags cross the wire";
+    EXPECT_FALSE(out.first_hits[std::size_t(3) * kWidth + 1].sharp());
     ASSERT_EQ(out.tracers.size(), 2u);
     EXPECT_EQ(out.tracers[0].update_ms, 0.25) << "the tracers' update times reach the stats";
     begin(1, 16, true);
