@@ -1,7 +1,11 @@
-// RMSE and relative MSE.
+// RMSE, relative MSE and SSIM.
 #include "common/film/image_compare.h"
 
+#include <cmath>
+#include <vector>
+
 #include "common/base/check.h"
+#include "common/film/tonemap.h"
 
 namespace pathfarm {
 
@@ -24,6 +28,72 @@ double relative_mse(const FloatImage& a, const FloatImage& reference, double eps
         sum += d * d / (r * r + eps);
     }
     return a.rgb.empty() ? 0.0 : sum / double(a.rgb.size());
+}
+
+namespace {
+
+// Luma in [0, 1] of the tonemapped sRGB bytes.
+std::vector<double> display_luma(const FloatImage& image) {
+    const std::vector<uint8_t> srgb = tonemap_to_srgb8(image);
+    std::vector<double> luma(srgb.size() / 3);
+    for (std::size_t i = 0; i < luma.size(); ++i)
+        luma[i] = (0.299 * srgb[3 * i] + 0.587 * srgb[3 * i + 1] + 0.114 * srgb[3 * i + 2]) / 255.0;
+    return luma;
+}
+
+// Separable Gaussian blur of `v` (w x h), weights renormalised where the window is clipped.
+std::vector<double> gaussian(const std::vector<double>& v, int w, int h) {
+    constexpr int kRadius = 5;
+    double k[2 * kRadius + 1];
+    for (int i = -kRadius; i <= kRadius; ++i)
+        k[i + kRadius] = std::exp(-0.5 * i * i / (1.5 * 1.5));
+    std::vector<double> tmp(v.size()), out(v.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0.0, weight = 0.0;
+            for (int i = std::max(-kRadius, -x); i <= std::min(kRadius, w - 1 - x); ++i) {
+                sum += k[i + kRadius] * v[std::size_t(y) * w + x + i];
+                weight += k[i + kRadius];
+            }
+            tmp[std::size_t(y) * w + x] = sum / weight;
+        }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0.0, weight = 0.0;
+            for (int i = std::max(-kRadius, -y); i <= std::min(kRadius, h - 1 - y); ++i) {
+                sum += k[i + kRadius] * tmp[std::size_t(y + i) * w + x];
+                weight += k[i + kRadius];
+            }
+            out[std::size_t(y) * w + x] = sum / weight;
+        }
+    return out;
+}
+
+}  // namespace
+
+double ssim(const FloatImage& a, const FloatImage& reference) {
+    PF_CHECK_EQ(a.rgb.size(), reference.rgb.size());
+    const int w = a.width, h = a.height;
+    if (a.rgb.empty()) return 1.0;
+    const std::vector<double> x = display_luma(a), y = display_luma(reference);
+    std::vector<double> xx(x.size()), yy(x.size()), xy(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        xx[i] = x[i] * x[i];
+        yy[i] = y[i] * y[i];
+        xy[i] = x[i] * y[i];
+    }
+    const std::vector<double> mx = gaussian(x, w, h), my = gaussian(y, w, h);
+    const std::vector<double> sxx = gaussian(xx, w, h), syy = gaussian(yy, w, h),
+                              sxy = gaussian(xy, w, h);
+    constexpr double kC1 = 0.01 * 0.01, kC2 = 0.03 * 0.03;  // (K L)^2 with L = 1
+    double sum = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double vx = sxx[i] - mx[i] * mx[i], vy = syy[i] - my[i] * my[i];
+        const double cov = sxy[i] - mx[i] * my[i];
+        sum += (2.0 * mx[i] * my[i] + kC1) * (2.0 * cov + kC2) /
+               ((mx[i] * mx[i] + my[i] * my[i] + kC1) * (vx + vy + kC2));
+    }
+    return sum / double(x.size());
 }
 
 }  // namespace pathfarm

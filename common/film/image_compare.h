@@ -11,4 +11,9 @@ double rmse(const FloatImage& a, const FloatImage& reference);
 // radiance differs by orders of magnitude.
 double relative_mse(const FloatImage& a, const FloatImage& reference, double eps = 1e-2);
 
+// Structural similarity (Wang et al. 2004) of the two images as a viewer sees them: the luma of
+// their tonemapped sRGB values in [0, 1], an 11x11 Gaussian window (sigma 1.5) clipped at the
+// borders, the paper's constants. 1 for identical images. Same size required.
+double ssim(const FloatImage& a, const FloatImage& reference);
+
 }  // namespace pathfarm
