@@ -93,6 +93,7 @@ struct Command {
     double export_at = 0.0, fps = 30.0;
     int frames = -1;
     bool offline_mode = false, no_converge = false;
+    std::string denoise = "on";
     pathfarm::coord::OfflineOptions o;
     pathfarm::coord::FarmOptions f;
     CLI::Option* tracer_port = nullptr;
@@ -162,6 +163,11 @@ void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
                  "as the farm goes");
     app.add_flag("--no-converge", c.no_converge,
                  "Send each frame's own samples (no blending with reprojected history)");
+    app.add_option("--denoise", c.denoise,
+                   "Spatio-temporal denoiser on every frame (temporal with converging, each "
+                   "frame alone with --no-converge): on or off")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"on", "off"}));
     app.add_option("--min-rr-scale", f.min_rr_scale,
                    "Workload scaling's floor on the Russian-roulette survival scale")
         ->capture_default_str();
@@ -219,6 +225,7 @@ int run(Command& c) {
         c.f.fps = c.fps;
         c.f.stats_csv = c.stats_csv;
         c.f.converge = !c.no_converge;
+        c.f.denoise = c.denoise == "on";
         return farm(std::move(*scene), c.clip_name, c.secret_file, c.f);
     }
     c.o.frames = c.frames < 0 ? 60 : c.frames;

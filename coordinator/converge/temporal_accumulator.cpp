@@ -117,6 +117,20 @@ void TemporalAccumulator::reset() {
     previous_.reset();
     history_ = FloatImage();
     frames_.clear();
+    moments_.clear();
+}
+
+void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
+    const std::size_t n = std::size_t(image.width) * std::size_t(image.height);
+    history_ = image;
+    frames_.assign(n, 1.0f);
+    moments_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float l =
+            luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
+        moments_[i] = Vec2(l, l * l);
+    }
+    previous_ = std::move(view);
 }
 
 ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
@@ -124,9 +138,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     const std::size_t n = std::size_t(w) * h;
     if (view.cut || !previous_ || history_.width != w || history_.height != h ||
         view.gbuffer.width != w || view.gbuffer.height != h) {
-        history_ = image;
-        frames_.assign(n, 1.0f);
-        previous_ = std::move(view);
+        start_over(image, std::move(view));
         return {1.0, 0.0, 1.0};
     }
     const FrameView& prev = *previous_;
@@ -134,12 +146,16 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     const CameraProjector project_prev(prev.camera, w, h);
     FloatImage out(w, h);
     std::vector<float> frames(n, 1.0f);
+    std::vector<Vec2> moments(n);
     const Totals totals = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h), Totals{},
         [&](const tbb::blocked_range<int>& rows, Totals t) {
             for (int y = rows.begin(); y < rows.end(); ++y)
                 for (int x = 0; x < w; ++x) {
                     const Rgb c = image.pixel(x, y);
+                    const float l = luminance(c);
+                    Vec2& m = moments[std::size_t(y) * w + x];
+                    m = Vec2(l, l * l);
                     const Reprojection r =
                         reproject(motion, project_prev, prev, view, o_.depth_tolerance, x, y);
                     if (!r.valid) {
@@ -160,6 +176,8 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     }
                     const float f = 1.0f / k;
                     out.set_pixel(x, y, history + f * (c - history));
+                    const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
+                    m = mh + f * (m - mh);
                     frames[std::size_t(y) * w + x] = k;
                     t.f += f;
                     t.kept += 1.0;
@@ -171,6 +189,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     image = out;
     history_ = std::move(out);
     frames_ = std::move(frames);
+    moments_ = std::move(moments);
     previous_ = std::move(view);
     return {totals.f / double(n), totals.kept / double(n), totals.frames / double(n)};
 }

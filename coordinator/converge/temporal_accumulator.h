@@ -47,13 +47,20 @@ public:
     void reset();  // a cut: the next frame starts from its own samples only
     // Frames of history per pixel (1: this frame's samples alone).
     const std::vector<float>& history_frames() const { return frames_; }
+    // Per pixel, the running means of the blended image's luminance and of its square (SVGF's
+    // first two moments), blended with the same factors: their difference is the variance of
+    // the frames' luminance where the history is long enough.
+    const std::vector<Vec2>& moments() const { return moments_; }
     float min_history_frames() const;                      // 0 before the first frame
     const FloatImage& output() const { return history_; }  // the last blended image
 
 private:
+    void start_over(const FloatImage& image, FrameView view);  // this frame's samples alone
+
     ConvergeOptions o_;
     FloatImage history_;
     std::vector<float> frames_;
+    std::vector<Vec2> moments_;
     std::optional<FrameView> previous_;
 };
 

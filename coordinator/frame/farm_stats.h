@@ -11,7 +11,7 @@ namespace pathfarm::coord {
 
 inline constexpr std::string_view kFrameStatsColumns =
     "frame,tracers,frame_ms,idle_pct,commit_bytes,tile_bytes,spp,rr_scale,render_width,"
-    "render_height,f,kept,at_floor,display_ms,wall_ms";
+    "render_height,f,kept,at_floor,display_ms,wall_ms,denoise_ms";
 inline constexpr std::string_view kTracerStatsColumns =
     "frame,tracer,first_row,rows,render_ms,rows_delivered,update_ms";
 inline constexpr std::string_view kStageColumns =

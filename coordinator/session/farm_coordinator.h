@@ -36,6 +36,9 @@ struct FarmOptions {
     // The real-time loop (docs/realtime.md). fixed_spp: no pacing and no workload scaling, every
     // frame at `spp` and full resolution as fast as the farm goes (the determinism tests).
     bool converge = true;
+    // The SVGF-style denoiser (coordinator/converge/denoiser.h): temporal with converging,
+    // each frame alone without.
+    bool denoise = true;
     bool fixed_spp = false;
     double target_fps = 0.0;                           // frame rate to hold; 0: `fps`
     float min_rr_scale = 0.5f, min_resolution = 0.5f;  // workload scaling's quality floor

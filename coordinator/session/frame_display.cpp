@@ -29,7 +29,7 @@ void FrameDisplay::submit(DisplayJob job) {
 float FrameDisplay::min_history_frames() {
     std::unique_lock lock(mutex_);
     cv_.wait(lock, [&] { return queue_.empty() && !busy_; });
-    return accumulator_.min_history_frames();
+    return o_.denoise ? denoiser_.min_history_frames() : accumulator_.min_history_frames();
 }
 
 void FrameDisplay::finish() {
@@ -65,14 +65,23 @@ void FrameDisplay::run() {
 void FrameDisplay::show(DisplayJob& job) {
     const Timer display_timer;
     const FrameWork& w = job.work;
-    FloatImage image = job.rendered ? std::move(job.outcome.image) : accumulator_.output();
+    FloatImage image = job.rendered ? std::move(job.outcome.image)
+                       : o_.denoise ? denoiser_.output()
+                                    : accumulator_.output();
     if (image.width != o_.width || image.height != o_.height)
         image = resize_bilinear(image, o_.width, o_.height);
     ConvergeStats converged{0.0, 1.0, 0.0};
-    if (o_.converge && job.rendered) {
+    double denoise_ms = 0.0;
+    if ((o_.converge || o_.denoise) && job.rendered) {
         job.view.gbuffer = gbuffer_from_first_hits(job.outcome.first_hits, w.width, w.height,
                                                    job.view.camera, o_.width, o_.height);
-        converged = accumulator_.blend(image, std::move(job.view));
+        if (o_.denoise) {
+            const Timer denoise_timer;
+            converged = denoiser_.filter(image, std::move(job.view), o_.converge).converge;
+            denoise_ms = denoise_timer.milliseconds();
+        } else {
+            converged = accumulator_.blend(image, std::move(job.view));
+        }
     }
     clients_.send(image, w.frame, job.last_input_sequence);
     if (!o_.dump_frames.empty()) {
@@ -83,7 +92,7 @@ void FrameDisplay::show(DisplayJob& job) {
     frame_stats_.row(w.frame, job.tracers, job.frame_ms, out.idle_pct, job.commit_bytes,
                      out.tile_bytes, job.rendered ? w.spp : 0, w.rr_scale, w.width, w.height,
                      converged.mean_f, converged.kept, int(job.at_floor),
-                     display_timer.milliseconds(), clock_.milliseconds());
+                     display_timer.milliseconds(), clock_.milliseconds(), denoise_ms);
     for (const TracerFrameStats& t : out.tracers)
         tracer_stats_.row(w.frame, t.name, t.first_range.y0, t.first_range.rows(), t.render_ms,
                           t.rows_delivered, t.update_ms);

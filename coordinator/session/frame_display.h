@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "common/base/timer.h"
+#include "coordinator/converge/denoiser.h"
 #include "coordinator/converge/temporal_accumulator.h"
 #include "coordinator/frame/farm_stats.h"
 #include "coordinator/session/client_hub.h"
@@ -51,7 +52,8 @@ private:
     const FarmOptions& o_;
     ClientHub& clients_;
     const Timer& clock_;
-    TemporalAccumulator accumulator_;
+    TemporalAccumulator accumulator_;  // converging without the denoiser
+    Denoiser denoiser_;                // converging (temporal) or not, with it
     CsvWriter frame_stats_, tracer_stats_, costs_;
     std::mutex mutex_;
     std::condition_variable cv_;

@@ -19,8 +19,9 @@ struct Farm {
     std::vector<std::unique_ptr<Process>> tracers;
     int tracer_port = 0, client_port = 0;
     // Appended to every coordinator's arguments. The default is the bit-exact batch mode (no
-    // pacing, workload scaling, converging or game logic); real-time tests clear it.
-    std::vector<std::string> mode = {"--fixed-spp", "--no-converge", "--game", "free-camera"};
+    // pacing, workload scaling, converging, denoising or game logic); real-time tests clear it.
+    std::vector<std::string> mode = {"--fixed-spp", "--no-converge", "--denoise",
+                                     "off",         "--game",        "free-camera"};
     int spp = 2;
     static constexpr int kWidth = 64, kHeight = 50;  // every farm's frame size
     std::string scene = "builtin:default";

@@ -75,6 +75,9 @@ void add_integrator_options(CLI::App& app, CommandLine& c) {
         ->check(CLI::IsMember({"specialised", "generic"}));
     app.add_flag("--no-light-culling", c.no_light_culling,
                  "Also sample emitters that a closed surface separates from the camera");
+    app.add_flag("--denoise", c.o.denoise,
+                 "Denoise the finished image (the farm denoiser's spatial filter, guided by the "
+                 "pixel centres' first hits); the output is still linear");
 }
 
 pathfarm::tools::RenderToolOptions finish_options(CommandLine& c) {

@@ -12,6 +12,7 @@
 #include "common/scene/load/scene_loader.h"
 #include "coordinator/animation/animator.h"
 #include "coordinator/animation/skinning.h"
+#include "coordinator/converge/denoiser.h"
 #include "tracer-node/backend/render_backend.h"
 
 namespace pathfarm::tools {
@@ -106,14 +107,17 @@ private:
 };
 
 // Time budget: passes that double in size; sample indices continue across passes.
+// `hits` (null or one per pixel) takes the first pass's first hits.
 Status render_for_seconds(tracer::RenderBackend& backend, tracer::RenderJob job, double seconds,
-                          FloatImage& image, RenderSummary& summary, SampleCounters& counters) {
+                          FloatImage& image, RenderSummary& summary, SampleCounters& counters,
+                          FirstHit* hits) {
     FloatImage pass(image.width, image.height);
     ProgressLog progress;
     const Timer timer;
     for (int pass_spp = 1; timer.seconds() < seconds; pass_spp *= 2) {
         job.frame.first_sample = summary.spp;
         job.frame.spp = pass_spp;
+        job.first_hits = summary.spp == 0 ? hits : nullptr;
         auto stats = backend.render_rows(job, pass.rgb.data());
         if (!stats) return stats.error();
         accumulate(image, pass, summary.spp, job.frame.spp);
@@ -127,12 +131,13 @@ Status render_for_seconds(tracer::RenderBackend& backend, tracer::RenderJob job,
 // Fixed spp: all samples of a band of rows at once, so the image is bit for bit the one any
 // farm split renders (docs/determinism.md).
 Status render_spp(tracer::RenderBackend& backend, tracer::RenderJob job, int spp, FloatImage& image,
-                  RenderSummary& summary, SampleCounters& counters) {
+                  RenderSummary& summary, SampleCounters& counters, FirstHit* hits) {
     ProgressLog progress;
     job.frame.spp = spp;
     for (int y = 0; y < image.height; y += kProgressBandRows) {
         job.y0 = y;
         job.y1 = std::min(image.height, y + kProgressBandRows);
+        if (hits) job.first_hits = hits + std::size_t(y) * std::size_t(image.width);
         auto stats = backend.render_rows(job, image.row(y));
         if (!stats) return stats.error();
         counters.add(stats->counters);
@@ -153,6 +158,16 @@ Status compare_with_reference(const std::string& path, const FloatImage& image,
     summary.rmse = rmse(image, *ref);
     summary.relative_mse = relative_mse(image, *ref);
     return {};
+}
+
+// The denoiser's spatial filter, its G-buffer made from the render's first hits. Instance ids
+// are SceneModel indices here; the G-buffer counts from 1 (0 is its miss).
+void denoise(FloatImage& image, std::vector<FirstHit> hits, const Camera& camera) {
+    for (FirstHit& h : hits)
+        if (h.hit()) ++h.instance;
+    const coord::GBuffer g = coord::gbuffer_from_first_hits(hits, image.width, image.height, camera,
+                                                            image.width, image.height);
+    coord::denoise_frame(image, g, camera);
 }
 
 }  // namespace
@@ -183,9 +198,12 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     RenderSummary summary;
     SampleCounters counters;
     const Timer timer;
+    std::vector<FirstHit> hits(o.denoise ? std::size_t(o.width) * std::size_t(o.height) : 0);
+    FirstHit* hits_out = o.denoise ? hits.data() : nullptr;
     const Status rendered =
-        o.seconds > 0.0 ? render_for_seconds(**backend, job, o.seconds, image, summary, counters)
-                        : render_spp(**backend, job, o.spp, image, summary, counters);
+        o.seconds > 0.0
+            ? render_for_seconds(**backend, job, o.seconds, image, summary, counters, hits_out)
+            : render_spp(**backend, job, o.spp, image, summary, counters, hits_out);
     if (!rendered) return rendered.error();
     summary.seconds = timer.seconds();
     summary.samples_per_second = double(counters.camera_samples) / summary.seconds;
@@ -193,6 +211,12 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     summary.nonfinite_samples = counters.nonfinite_samples;
     if (counters.nonfinite_samples > 0)
         spdlog::warn("{} samples were NaN/Inf and were discarded", counters.nonfinite_samples);
+    if (o.denoise) {
+        const Timer denoise_timer;
+        denoise(image, hits, *camera);
+        summary.denoise_ms = denoise_timer.milliseconds();
+        spdlog::info("denoised in {:.1f} ms", summary.denoise_ms);
+    }
     if (!o.reference.empty())
         if (Status s = compare_with_reference(o.reference, image, summary); !s) return s.error();
     if (Status s = write_image(o.out, image, o.exposure); !s) return s.error();

@@ -35,6 +35,9 @@ struct RenderToolOptions {
     bool specialise = true;          // the path-tracing loop specialised for the scene's features
     bool cull_sealed_lights = true;  // IntegratorSettings::cull_sealed_lights
     float exposure = 1.0f;
+    // The denoiser's spatial filter on the finished image (coordinator/converge/denoiser.h),
+    // guided by the first hits of the pixel centres.
+    bool denoise = false;
 };
 
 struct RenderSummary {
@@ -44,6 +47,7 @@ struct RenderSummary {
     double rays_per_second = 0.0;
     uint64_t nonfinite_samples = 0;
     std::optional<double> rmse, relative_mse;  // against RenderToolOptions::reference
+    double denoise_ms = 0.0;
 };
 
 Result<RenderSummary> run_render(const RenderToolOptions& options);

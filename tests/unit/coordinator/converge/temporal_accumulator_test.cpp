@@ -16,10 +16,13 @@
 #include "coordinator/converge/temporal_accumulator.h"
 #include "coordinator/query/ray_query.h"
 #include "coordinator/scene_graph/scene_graph.h"
+#include "tests/support/gbuffer_helpers.h"
 #include "tests/support/render_helpers.h"
 
 namespace pathfarm::coord {
 namespace {
+
+using test::first_hit_gbuffer;
 
 Vec3 camera_eye(const Camera& c) { return transform_point(c.camera_to_world, Vec3(0.0f)); }
 
@@ -40,32 +43,6 @@ GBuffer trace_gbuffer(const AccelSnapshot& accel, const Camera& camera, int widt
             }
         }
     return g;
-}
-
-// The G-buffer the farm makes of frame k of `scene` seen from `camera`: from the first hits of a
-// tracer's render of that frame, from the scene graph's model as a replica holds it.
-// `scale` < 1: workload scaling rendered that much smaller, the G-buffer is upscaled.
-GBuffer first_hit_gbuffer(const SceneModel& scene, const Camera& camera, uint32_t k, int display_w,
-                          int display_h, float scale = 1.0f) {
-    const int w = int(display_w * scale), h = int(display_h * scale);
-    SceneGraph graph(scene);
-    SceneModel model = to_scene_model(graph.state());
-    model.cameras.at(0) = camera;
-    recentre_on_camera(model, camera);
-    auto backend = tracer::create_backend(tracer::BackendKind::embree, {2, 0, 0});
-    EXPECT_TRUE(backend.ok() && (*backend)->set_scene(model).ok());
-    std::vector<float> rgb(std::size_t(w) * h * 3);
-    std::vector<FirstHit> hits(std::size_t(w) * h);
-    const tracer::RenderJob job{FrameSpec{w, h, k, 7, 1, 0, model.cameras.at(0)},
-                                IntegratorSettings{},
-                                0,
-                                h,
-                                {},
-                                hits.data()};
-    EXPECT_TRUE((*backend)->render_rows(job, rgb.data()).ok());
-    for (FirstHit& hit : hits)  // as the tracer sends them: the scene graph's ids
-        if (hit.hit()) hit.instance = model.instances.at(hit.instance).id;
-    return gbuffer_from_first_hits(hits, w, h, camera, display_w, display_h);
 }
 
 struct Shot {

@@ -1,0 +1,278 @@
+// The à-trous levels, laid out for the vectoriser: padded float planes, one pass per row with
+// every tap of a pixel unrolled in registers (no bounds checks, no sums in memory), compiled
+// twice (x86-64-v3, i.e. AVX2 with FMA, and baseline) and picked at load time. Rows run in
+// parallel (TBB).
+#include "coordinator/converge/atrous.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <utility>
+
+#include <tbb/parallel_for.h>
+
+#include "common/math/transform.h"
+
+namespace pathfarm::coord {
+namespace {
+
+// B-spline kernels: 3x3 (radius 1) and SVGF's 5x5 (radius 2), centre at index radius.
+constexpr float kB2[3] = {1.0f / 4.0f, 1.0f / 2.0f, 1.0f / 4.0f};
+constexpr float kB3[5] = {1.0f / 16.0f, 1.0f / 4.0f, 3.0f / 8.0f, 1.0f / 4.0f, 1.0f / 16.0f};
+constexpr float kLuminanceEpsilon = 1e-6f;
+constexpr float kPlaneSlope = 0.05f;  // about 3 degrees of shading-normal tilt
+constexpr int kMaxTaps = 24;
+
+float kernel(int radius, int t) { return radius == 1 ? kB2[t + 1] : kB3[t + 2]; }
+
+// Eight lanes in GCC's vector extensions: the x86-64-v3 clone gets AVX2 with FMA, the baseline
+// two SSE halves, and neither depends on the auto-vectoriser's if-conversion.
+// The helpers are always inlined, so the ABI GCC warns about (-Wpsabi) is never used.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using vf = float __attribute__((vector_size(32)));
+using vi = int32_t __attribute__((vector_size(32)));
+constexpr int kLanes = 8;
+
+[[gnu::always_inline]] inline vf load(const float* p) {
+    vf v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+[[gnu::always_inline]] inline void store(float* p, vf v) { std::memcpy(p, &v, sizeof v); }
+[[gnu::always_inline]] inline vf splat(float f) { return vf{} + f; }
+[[gnu::always_inline]] inline vf vmax(vf a, vf b) { return a > b ? a : b; }
+[[gnu::always_inline]] inline vf vabs(vf a) { return (vf)((vi)a & 0x7fffffff); }
+// Computed where needed rather than kept in a plane: three multiply-adds on colour the taps
+// load anyway cost less than a plane more to read.
+[[gnu::always_inline]] inline vf luminance(vf r, vf g, vf b) {
+    return 0.2126f * r + 0.7152f * g + 0.0722f * b;
+}
+
+// e^x for x <= 0 to about 3e-3 relative (plenty for a weight), without floor or table:
+// 2^t = 2^i 2^f with i = trunc(t), f in (-1, 0], a degree-4 Taylor series.
+[[gnu::always_inline]] inline vf exp_nonpositive(vf x) {
+    const vf t = vmax(x, splat(-87.0f)) * 1.44269504f;
+    const vi i = __builtin_convertvector(t, vi);
+    const vf f = t - __builtin_convertvector(i, vf);
+    const vf p = 1.0f + f * (0.693147f + f * (0.240227f + f * (0.0555041f + f * 0.00961813f)));
+    return p * (vf)((i + 127) << 23);
+}
+
+// A row's planes, each pointing at the row's first pixel (padded layout).
+struct Row {
+    const float *nx, *ny, *nz, *px, *py, *pz, *offset, *inv_plane, *inv_lum;
+    const float *r, *g, *b, *var;
+    float *out_r, *out_g, *out_b, *out_var;
+};
+
+// A level's taps: index offsets, kernel weights and the plane tolerance's inverse growth (a tap
+// further away may lie further off the centre's tangent plane on a curved or normal-mapped
+// surface: one footprint plus kPlaneSlope per pixel of distance).
+struct Taps {
+    std::ptrdiff_t offset[kMaxTaps];
+    float k[kMaxTaps], inv_distance[kMaxTaps];
+    float k0;
+};
+
+// The weighted sums of eight centre pixels' taps, kept in registers.
+struct TapSums {
+    vf w, r, g, b, var;
+};
+
+// The centre pixels' values a tap weight needs.
+struct Centre {
+    vf nx, ny, nz, offset, inv_plane, lum, inv_lum;
+};
+
+// Tap j of centres [x, x + 8), unrolled at compile time.
+template <int j>
+[[gnu::always_inline]] inline void add_tap(const Row& a, const Taps& t, int x, const Centre& c,
+                                           TapSums& s) {
+    const std::ptrdiff_t q = x + t.offset[j];
+    const vf r = load(a.r + q), g = load(a.g + q), b = load(a.b + q);
+    vf wn = vmax(vf{}, c.nx * load(a.nx + q) + c.ny * load(a.ny + q) + c.nz * load(a.nz + q));
+    wn *= wn;  // ^128, written out
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    const vf plane =
+        vabs(c.nx * load(a.px + q) + c.ny * load(a.py + q) + c.nz * load(a.pz + q) - c.offset);
+    const vf edge =
+        plane * c.inv_plane * t.inv_distance[j] + vabs(c.lum - luminance(r, g, b)) * c.inv_lum;
+    const vf w = t.k[j] * wn * exp_nonpositive(-edge);
+    s.w += w;
+    s.r += w * r;
+    s.g += w * g;
+    s.b += w * b;
+    s.var += w * w * load(a.var + q);
+}
+
+// Centres [0, n) rounded up to whole lanes: the row's padding takes the excess (its zero
+// inverse plane tolerance passes its zeros through).
+template <int... j>
+[[gnu::always_inline]] inline void filter_row_body(const Row& a, const Taps& t, int n,
+                                                   std::integer_sequence<int, j...>) {
+    for (int x = 0; x < n; x += kLanes) {
+        Centre c{load(a.nx + x),        load(a.ny + x), load(a.nz + x),     load(a.offset + x),
+                 load(a.inv_plane + x), vf{},           load(a.inv_lum + x)};
+        const vf r = load(a.r + x), g = load(a.g + x), b = load(a.b + x), var = load(a.var + x);
+        c.lum = luminance(r, g, b);
+        TapSums s{splat(t.k0), t.k0 * r, t.k0 * g, t.k0 * b, (t.k0 * t.k0) * var};
+        (add_tap<j>(a, t, x, c, s), ...);
+        const vi filtered = c.inv_plane > 0.0f;
+        const vf inv_w = 1.0f / s.w;
+        store(a.out_r + x, filtered ? s.r * inv_w : r);
+        store(a.out_g + x, filtered ? s.g * inv_w : g);
+        store(a.out_b + x, filtered ? s.b * inv_w : b);
+        store(a.out_var + x, filtered ? s.var * inv_w * inv_w : var);
+    }
+}
+
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void filter_row_3x3(const Row& a,
+                                                                                const Taps& t,
+                                                                                int n) {
+    filter_row_body(a, t, n, std::make_integer_sequence<int, 8>());
+}
+
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void filter_row_5x5(const Row& a,
+                                                                                const Taps& t,
+                                                                                int n) {
+    filter_row_body(a, t, n, std::make_integer_sequence<int, 24>());
+}
+
+Taps taps_of(int radius, int step, std::ptrdiff_t stride) {
+    Taps t{};
+    t.k0 = kernel(radius, 0) * kernel(radius, 0);
+    int j = 0;
+    for (int ty = -radius; ty <= radius; ++ty)
+        for (int tx = -radius; tx <= radius; ++tx) {
+            if (tx == 0 && ty == 0) continue;
+            t.offset[j] = std::ptrdiff_t(ty) * step * stride + std::ptrdiff_t(tx) * step;
+            t.k[j] = kernel(radius, tx) * kernel(radius, ty);
+            t.inv_distance[j] =
+                1.0f / (1.0f + kPlaneSlope * float(step) * std::sqrt(float(tx * tx + ty * ty)));
+            ++j;
+        }
+    return t;
+}
+
+template <typename F>
+void for_rows(int h, F&& f) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y)
+            f(y);
+    });
+}
+
+}  // namespace
+
+void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
+                             const std::vector<uint8_t>& filter) {
+    // The widest tap offset, and at least a lane's width for the rows' rounded-up ends.
+    const int pad = std::max(kLanes, o_.radius << (o_.levels - 1));
+    if (g.width != width_ || g.height != height_ || pad != pad_) {
+        width_ = g.width;
+        height_ = g.height;
+        pad_ = pad;
+        stride_ = width_ + 2 * pad_;
+        const std::size_t n = std::size_t(stride_) * std::size_t(height_ + 2 * pad_);
+        for (std::vector<float>* p :
+             {&nx_, &ny_, &nz_, &px_, &py_, &pz_, &offset_, &inv_plane_, &rgb_[0][0], &rgb_[0][1],
+              &rgb_[0][2], &rgb_[1][0], &rgb_[1][1], &rgb_[1][2], &var_[0], &var_[1], &inv_lum_})
+            p->assign(n, 0.0f);  // the padding stays zero: a zero normal is no one's tap
+    }
+    const Vec3 eye = transform_point(camera.camera_to_world, Vec3(0.0f));
+    const float pixel_angle = 2.0f * std::tan(0.5f * camera.yfov_radians) / float(height_);
+    for_rows(height_, [&](int y) {
+        for (int x = 0; x < width_; ++x) {
+            const std::size_t i = std::size_t(y) * width_ + x;
+            const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
+            if (!filter[i]) {
+                nx_[k] = ny_[k] = nz_[k] = px_[k] = py_[k] = pz_[k] = offset_[k] = 0.0f;
+                inv_plane_[k] = 0.0f;
+                continue;
+            }
+            const Vec3 n = g.normal[i], p = g.position[i] - eye;
+            nx_[k] = n.x;
+            ny_[k] = n.y;
+            nz_[k] = n.z;
+            px_[k] = p.x;
+            py_[k] = p.y;
+            pz_[k] = p.z;
+            offset_[k] = glm::dot(n, p);
+            inv_plane_[k] = 1.0f / (o_.sigma_plane * g.distance[i] * pixel_angle);
+        }
+    });
+}
+
+void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance) {
+    for_rows(height_, [&](int y) {
+        for (int x = 0; x < width_; ++x) {
+            const std::size_t i = std::size_t(y) * width_ + x;
+            const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
+            for (int c = 0; c < 3; ++c)
+                rgb_[0][c][k] = image.rgb[3 * i + c];
+            var_[0][k] = variance[i];
+        }
+    });
+    int from = 0;
+    for (int l = 0; l < o_.levels; ++l, from = 1 - from)
+        level(1 << l, from);
+    for_rows(height_, [&](int y) {
+        for (int x = 0; x < width_; ++x) {
+            const std::size_t i = std::size_t(y) * width_ + x;
+            const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
+            for (int c = 0; c < 3; ++c)
+                image.rgb[3 * i + c] = rgb_[from][c][k];
+        }
+    });
+}
+
+// One level from planes `from` to 1 - from, one task per row: the centre row's luminance
+// tolerance (from the 3x3 Gaussian of the variance, edges replicated: SVGF's, less noisy than
+// one pixel's), then the taps.
+void AtrousFilter::level(int step, int from) {
+    const std::vector<float>(&in)[3] = rgb_[from];
+    const std::vector<float>& var = var_[from];
+    const int w = width_, h = height_;
+    const auto row_start = [&](int y) { return std::size_t(y + pad_) * stride_ + pad_; };
+    const Taps taps = taps_of(o_.radius, step, stride_);
+    const int to = 1 - from;
+    for_rows(h, [&](int y) {
+        const std::size_t k = row_start(y);
+        const float* rows[3] = {&var[row_start(std::max(0, y - 1))], &var[k],
+                                &var[row_start(std::min(h - 1, y + 1))]};
+        float* inv_lum = &inv_lum_[k];
+        const float *up = rows[0], *mid = rows[1], *down = rows[2];
+        const float sigma = o_.sigma_luminance;
+        // Vertical then horizontal weights; the row's two ends replicate their edge pixel.
+        const auto column = [&](int x) { return 0.25f * (up[x] + down[x]) + 0.5f * mid[x]; };
+        const auto tolerance = [&](float v) {
+            return 1.0f / (sigma * std::sqrt(std::max(0.0f, v)) + kLuminanceEpsilon);
+        };
+        for (int x = 1; x + 1 < w; ++x) {
+            const float v = 0.25f * (0.25f * (up[x - 1] + down[x - 1]) + 0.5f * mid[x - 1]) +
+                            0.5f * (0.25f * (up[x] + down[x]) + 0.5f * mid[x]) +
+                            0.25f * (0.25f * (up[x + 1] + down[x + 1]) + 0.5f * mid[x + 1]);
+            inv_lum[x] = tolerance(v);
+        }
+        inv_lum[0] = tolerance(0.75f * column(0) + 0.25f * column(std::min(1, w - 1)));
+        inv_lum[w - 1] = tolerance(0.75f * column(w - 1) + 0.25f * column(std::max(0, w - 2)));
+        const Row row{
+            &nx_[k],     &ny_[k],         &nz_[k],         &px_[k],         &py_[k],     &pz_[k],
+            &offset_[k], &inv_plane_[k],  &inv_lum_[k],    &in[0][k],       &in[1][k],   &in[2][k],
+            &var[k],     &rgb_[to][0][k], &rgb_[to][1][k], &rgb_[to][2][k], &var_[to][k]};
+        if (o_.radius == 1)
+            filter_row_3x3(row, taps, w);
+        else
+            filter_row_5x5(row, taps, w);
+    });
+}
+
+}  // namespace pathfarm::coord

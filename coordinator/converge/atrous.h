@@ -1,0 +1,50 @@
+// The edge-avoiding à-trous wavelet filter of SVGF (Schied et al. 2017, after Dammertz et al.
+// 2010): levels of a B-spline kernel (3x3, or SVGF's 5x5) with taps 2^level pixels apart, each
+// tap weighted by how far it lies off the centre pixel's tangent plane, how its normal turns
+// away (max(0, n_p . n_q)^128, SVGF's) and how its luminance differs relative to the centre's
+// standard deviation. The variance is filtered alongside (with squared weights) so later
+// levels stop at what is left of the noise.
+#pragma once
+
+#include <vector>
+
+#include "common/film/film.h"
+#include "common/scene/camera.h"
+#include "coordinator/converge/gbuffer.h"
+
+namespace pathfarm::coord {
+
+struct AtrousOptions {
+    int levels = 5;
+    int radius = 1;                // 1: 3x3 taps, 2: SVGF's 5x5 (docs/denoise.md)
+    float sigma_luminance = 4.0f;  // luminance edge: this many standard deviations
+    float sigma_plane = 1.0f;      // depth edge: distance off the tangent plane, in footprints
+};
+
+// The filter with its planes, kept from frame to frame (no allocation once sized). Planes are
+// padded by the widest tap offset on every side with pixels that are no one's tap, so the
+// inner loops need no bounds checks and vectorise.
+class AtrousFilter {
+public:
+    explicit AtrousFilter(AtrousOptions options = {}) : o_(options) {}
+
+    // The frame's edges: normal, camera-relative position and footprint of each pixel with
+    // `filter[i]` set; the others keep their values and are no pixel's taps.
+    void set_guide(const GBuffer& g, const Camera& camera, const std::vector<uint8_t>& filter);
+    // Filters `image` (demodulated light, the guide's size) in place; `variance` is each
+    // pixel's luminance variance.
+    void filter(FloatImage& image, const std::vector<float>& variance);
+    const AtrousOptions& options() const { return o_; }
+
+private:
+    void level(int step, int from);
+
+    AtrousOptions o_;
+    int width_ = 0, height_ = 0, pad_ = 0, stride_ = 0;
+    // Guide (padded): normal, position, n . p, inverse plane tolerance (0: not filtered).
+    std::vector<float> nx_, ny_, nz_, px_, py_, pz_, offset_, inv_plane_;
+    // Colour and variance, in and out of a level (padded), and the luminance tolerance's inverse.
+    std::vector<float> rgb_[2][3], var_[2], inv_lum_;
+};
+
+}  // namespace pathfarm::coord

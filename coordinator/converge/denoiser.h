@@ -1,0 +1,61 @@
+// Spatio-temporal reconstruction after SVGF (Schied et al. 2017): the frame's light is divided
+// by the first hit's base colour, accumulated over frames with the converging reprojection
+// (TemporalAccumulator, with the first two moments of its luminance), given a per-pixel
+// variance (temporal where the history is long, spatial where it is short), filtered by the
+// edge-avoiding à-trous wavelet (atrous.h) and multiplied by the base colour again.
+//
+// What stays sharp, per pixel: a pixel the tracers flagged sharp (an emitter seen directly, a
+// mirror-like metal, glass: FirstHit::kSharp), the pixels next to one (their other samples
+// may have seen it) and the sky keep their own accumulated light and are no neighbour's tap:
+// their light is not a base colour times a smooth irradiance.
+#pragma once
+
+#include "coordinator/converge/atrous.h"
+#include "coordinator/converge/temporal_accumulator.h"
+
+namespace pathfarm::coord {
+
+struct DenoiseOptions {
+    AtrousOptions atrous;
+    int variance_frames = 4;     // shorter history: the variance is estimated spatially
+    float albedo_floor = 0.02f;  // demodulation divides by max(base colour, this)
+};
+
+struct DenoiseStats {
+    ConvergeStats converge;  // of the temporal accumulation ({1, 0, 1} for a frame alone)
+    double filtered = 0.0;   // fraction of pixels the wavelet filtered
+};
+
+class Denoiser {
+public:
+    explicit Denoiser(DenoiseOptions options = {}, ConvergeOptions converge = {})
+        : o_(options), accumulator_(converge), atrous_(options.atrous) {}
+
+    // Denoises `image` (the frame at the G-buffer's resolution) in place. `temporal`: with
+    // the history of earlier frames (the farm converging); otherwise this frame alone.
+    DenoiseStats filter(FloatImage& image, FrameView view, bool temporal);
+    void reset() { accumulator_.reset(); }
+    float min_history_frames() const { return accumulator_.min_history_frames(); }
+    const FloatImage& output() const { return output_; }  // the last denoised image
+
+private:
+    double prepare(const GBuffer& g, const Camera& camera);
+    void estimate_variance(const std::vector<Vec2>& moments, const std::vector<float>* frames,
+                           int w, int h);
+
+    DenoiseOptions o_;
+    TemporalAccumulator accumulator_;
+    AtrousFilter atrous_;
+    FloatImage output_;
+    // Per-frame planes, kept to spare the allocations.
+    std::vector<uint8_t> filter_mask_;
+    std::vector<Rgb> albedo_;
+    std::vector<Vec2> moments_;
+    std::vector<float> variance_, m1_, m2_, tmp_;
+};
+
+// One frame alone (pathfarm-render --denoise): the spatial filter with a spatial variance.
+void denoise_frame(FloatImage& image, const GBuffer& gbuffer, const Camera& camera,
+                   const DenoiseOptions& options = {});
+
+}  // namespace pathfarm::coord
