@@ -1,0 +1,242 @@
+// Reconstruction quality along a scripted camera path (issue: real-time reconstruction). The
+// coordinator's frame pipeline runs the game (inputs, animation, BVHs) for each frame; the
+// frame is rendered at 1 spp with its first hits as a tracer renders it (Embree; any row split
+// gives the same bytes); its G-buffer is made as the farm makes it; then the farm's two
+// outputs are formed: converging alone (TemporalAccumulator) and the denoiser (temporal).
+// Every 10th frame, and the frame after every 20th (for the frame-to-frame change), is
+// compared with a converged reference of the same scene state and camera (rendered once at
+// `ref_spp` with other random numbers, cached as PFM).
+//
+// Paths: "game" (builtin:default with its game: the ball rolls, the action key switches the
+// lamp and the door, the camera walks and turns), "sponza" (a walk through Sponza), "cesium"
+// (an orbit around the skinned, walking Cesium Man).
+//
+// Prints CSV rows `path,frame,method,relmse,ssim,instability,denoise_ms` (instability: the mean
+// absolute frame-to-frame change of the error over the reference's mean, on the frame after a
+// pair's first; empty elsewhere) and writes `<out>/denoise_<path>_strip.png` (raw, converging,
+// denoised, reference at the strip frame). Arguments: path, scenes folder, cache folder, out
+// folder, frames (121), reference spp (512), strip frame (60).
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "common/base/log.h"
+#include "common/base/timer.h"
+#include "common/film/image_compare.h"
+#include "common/film/image_io.h"
+#include "common/scene/load/scene_loader.h"
+#include "common/scene/scene_state.h"
+#include "coordinator/converge/denoiser.h"
+#include "coordinator/frame/frame_pipeline.h"
+#include "tracer-node/backend/render_backend.h"
+
+using namespace pathfarm;
+
+namespace {
+
+constexpr int kWidth = 320, kHeight = 180;
+constexpr double kFps = 30.0;
+
+[[noreturn]] void fail(const std::string& what) {
+    std::fprintf(stderr, "denoise_bench: %s\n", what.c_str());
+    std::exit(1);
+}
+
+struct PathSpec {
+    std::string scene, game;
+    // The input for frame k (absolute camera poses or relative moves, and the action key).
+    std::function<coord::PlayerInput(int k)> input;
+};
+
+Mat4 look(const Vec3& eye, const Vec3& target) {
+    return glm::inverse(glm::lookAt(eye, target, Vec3(0.0f, 1.0f, 0.0f)));
+}
+
+PathSpec path_spec(const std::string& path, const std::string& scenes) {
+    if (path == "game")
+        return {"builtin:default", "default", [](int k) {
+                    coord::PlayerInput in;
+                    in.move = {0.0f, 0.0f, 0.015f, 0.004f, 0.0f};  // walk forward, turn left
+                    in.action = k == 30 || k == 75;                // the lamp and the door
+                    return in;
+                }};
+    if (path == "sponza")
+        return {scenes + "/dabrovic-sponza/sponza.obj", "free-camera", [](int k) {
+                    coord::PlayerInput in;
+                    const Vec3 eye(-10.0f + 0.1f * float(k), 2.0f, 0.8f * std::sin(k / 20.0f));
+                    in.camera_to_world = look(eye, eye + Vec3(1.0f, 0.15f, -0.2f));
+                    return in;
+                }};
+    if (path == "cesium")
+        return {scenes + "/cesium-man/CesiumMan.gltf", "free-camera", [](int k) {
+                    coord::PlayerInput in;
+                    const float a = 0.6f + 0.01f * float(k);
+                    const Vec3 target(0.0f, 0.75f, 0.0f);
+                    in.camera_to_world =
+                        look(target + Vec3(2.6f * std::sin(a), 0.4f, 2.6f * std::cos(a)), target);
+                    return in;
+                }};
+    fail("unknown path " + path + " (game, sponza, cesium)");
+}
+
+// A render of the scene as of the pipeline's last frame, with its first hits when asked.
+struct Shot {
+    SceneModel model;
+    Camera camera;  // recentred, as the tracers hold it
+    std::vector<uint32_t> ids;
+};
+
+FloatImage render(tracer::RenderBackend& backend, const Shot& s, uint32_t frame, uint32_t seed,
+                  int spp, std::vector<FirstHit>* hits) {
+    FloatImage image(kWidth, kHeight);
+    if (hits) hits->assign(std::size_t(kWidth) * kHeight, FirstHit{});
+    const tracer::RenderJob job{FrameSpec{kWidth, kHeight, frame, seed, spp, 0, s.camera},
+                                IntegratorSettings{},
+                                0,
+                                kHeight,
+                                {},
+                                hits ? hits->data() : nullptr};
+    if (!backend.render_rows(job, image.rgb.data())) fail("render failed");
+    if (hits)
+        for (FirstHit& h : *hits)
+            if (h.hit()) h.instance = s.ids.at(h.instance);  // the scene graph's ids
+    return image;
+}
+
+// Mean absolute frame-to-frame change of the error, over the reference's mean.
+double instability(const FloatImage& out, const FloatImage& out_prev, const FloatImage& ref,
+                   const FloatImage& ref_prev) {
+    double change = 0.0, mean = 0.0;
+    for (std::size_t i = 0; i < out.rgb.size(); ++i) {
+        change += std::abs(double(out.rgb[i]) - out_prev.rgb[i] - (ref.rgb[i] - ref_prev.rgb[i]));
+        mean += ref.rgb[i];
+    }
+    return mean > 0.0 ? change / mean : 0.0;
+}
+
+void write_strip(const std::string& path, const std::vector<const FloatImage*>& images) {
+    FloatImage strip(kWidth * int(images.size()), kHeight);
+    for (std::size_t n = 0; n < images.size(); ++n)
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                strip.set_pixel(int(n) * kWidth + x, y, images[n]->pixel(x, y));
+    if (Status s = write_image(path, strip); !s) fail(s.error().message);
+}
+
+bool is_reference_frame(int k) { return (k % 10 == 0 && k > 0) || (k % 20 == 1 && k > 1); }
+
+struct Args {
+    std::string path, cache, out;
+    int frames = 121, ref_spp = 512, strip_frame = 60;
+};
+
+// The cached reference of frame k, or a fresh render of it (written to the cache).
+FloatImage reference(const Args& a, tracer::RenderBackend& backend, const Shot& shot, int k) {
+    const std::string file =
+        a.cache + "/" + a.path + "_" + std::to_string(k) + "_" + std::to_string(a.ref_spp) + ".pfm";
+    if (auto cached = read_image(file);
+        cached && cached->width == kWidth && cached->height == kHeight)
+        return std::move(*cached);
+    FloatImage ref = render(backend, shot, uint32_t(k), 99, a.ref_spp, nullptr);
+    if (Status s = write_image(file, ref); !s) fail(s.error().message);
+    return ref;
+}
+
+// The path's frames, each output compared with the reference where there is one.
+class PathRun {
+public:
+    PathRun(const Args& a, const PathSpec& spec, coord::FramePipeline& pipeline,
+            tracer::RenderBackend& backend)
+        : a_(a), spec_(spec), pipeline_(pipeline), backend_(backend) {}
+
+    void frame(int k) {
+        coord::PlayerInput input = spec_.input(k);
+        input.sequence = uint64_t(k) + 1;
+        const coord::FrameUpdate update = pipeline_.advance(uint64_t(k), k / kFps, {input});
+        coord::FrameView view = pipeline_.view(update);
+        Shot shot;
+        shot.model = to_scene_model(pipeline_.state());
+        for (const Instance& inst : shot.model.instances)
+            shot.ids.push_back(inst.id);
+        shot.camera = recentre_on_camera(shot.model, view.camera);
+        if (Status s = backend_.set_scene(shot.model); !s) fail(s.error().message);
+        std::vector<FirstHit> hits;
+        const FloatImage raw = render(backend_, shot, uint32_t(k), 1, 1, &hits);
+        view.gbuffer =
+            coord::gbuffer_from_first_hits(hits, kWidth, kHeight, view.camera, kWidth, kHeight);
+        FloatImage converged = raw, denoised = raw;
+        accumulator_.blend(converged, view);
+        const Timer timer;
+        denoiser_.filter(denoised, std::move(view), true);
+        const double denoise_ms = timer.milliseconds();
+        const std::map<std::string, const FloatImage*> outputs = {
+            {"raw", &raw}, {"converging", &converged}, {"denoised", &denoised}};
+        if (is_reference_frame(k)) compare(k, shot, outputs, denoise_ms);
+        for (const auto& [method, image] : outputs)
+            previous_[method] = *image;
+    }
+
+private:
+    void compare(int k, const Shot& shot, const std::map<std::string, const FloatImage*>& outputs,
+                 double denoise_ms) {
+        FloatImage ref = reference(a_, backend_, shot, k);
+        for (const auto& [method, image] : outputs) {
+            std::string unstable;
+            if (k % 20 == 1)
+                unstable =
+                    std::to_string(instability(*image, previous_.at(method), ref, previous_ref_));
+            std::printf("%s,%d,%s,%.6g,%.6f,%s,%.3f\n", a_.path.c_str(), k, method.c_str(),
+                        relative_mse(*image, ref), ssim(*image, ref), unstable.c_str(), denoise_ms);
+        }
+        std::fflush(stdout);
+        if (k == a_.strip_frame)
+            write_strip(
+                a_.out + "/denoise_" + a_.path + "_strip.png",
+                {outputs.at("raw"), outputs.at("converging"), outputs.at("denoised"), &ref});
+        previous_ref_ = std::move(ref);
+    }
+
+    const Args& a_;
+    const PathSpec& spec_;
+    coord::FramePipeline& pipeline_;
+    tracer::RenderBackend& backend_;
+    coord::TemporalAccumulator accumulator_;
+    coord::Denoiser denoiser_;
+    std::map<std::string, FloatImage> previous_;  // method -> last frame's output
+    FloatImage previous_ref_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 5) {
+        std::fprintf(stderr,
+                     "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
+                     "[REF_SPP] [STRIP_FRAME]\n");
+        return 2;
+    }
+    init_logging("denoise-bench", "warn");
+    Args a{argv[1], argv[3], argv[4]};
+    if (argc > 5) a.frames = std::atoi(argv[5]);
+    if (argc > 6) a.ref_spp = std::atoi(argv[6]);
+    if (argc > 7) a.strip_frame = std::atoi(argv[7]);
+    const PathSpec spec = path_spec(a.path, argv[2]);
+    auto scene = load_scene(spec.scene);
+    if (!scene) fail(scene.error().message);
+    coord::FramePipeline pipeline(std::move(*scene), {});
+    if (Status s = pipeline.start_game(spec.game, spec.scene); !s) fail(s.error().message);
+    auto backend = tracer::create_backend(tracer::BackendKind::embree, {0, 0, 0});
+    if (!backend) fail(backend.error().message);
+    std::filesystem::create_directories(a.cache);
+    std::filesystem::create_directories(a.out);
+    std::printf("path,frame,method,relmse,ssim,instability,denoise_ms\n");
+    PathRun run(a, spec, pipeline, **backend);
+    for (int k = 0; k < a.frames; ++k)
+        run.frame(k);
+    return 0;
+}

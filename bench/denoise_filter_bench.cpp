@@ -1,0 +1,100 @@
+// The denoiser's cost per frame (issue: real-time reconstruction): a 1-spp frame of a scene
+// with its first hits (Embree), then the denoiser run repeatedly on it as the farm runs it
+// (temporal: accumulation, variance, wavelet) and as pathfarm-render --denoise does (one frame
+// alone). Prints CSV rows `scene,width,height,mode,threads,median_ms,p95_ms,runs`. Arguments:
+// scene spec, runs, threads (0: all), then width x height pairs.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "common/base/log.h"
+#include "common/base/timer.h"
+#include "common/scene/load/scene_loader.h"
+#include "common/scene/scene_state.h"
+#include "coordinator/converge/denoiser.h"
+#include "tracer-node/backend/render_backend.h"
+
+using namespace pathfarm;
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
+}
+
+struct Frame {
+    FloatImage image;
+    coord::FrameView view;
+};
+
+Frame render_frame(const SceneModel& loaded, int w, int h) {
+    SceneModel scene = loaded;
+    Camera camera = scene.cameras.empty() ? frame_bounds(world_bounds(scene), float(w) / float(h))
+                                          : scene.cameras.front();
+    camera = recentre_on_camera(scene, camera);
+    auto backend = tracer::create_backend(tracer::BackendKind::embree, {0, 0, 0});
+    if (!backend || !(*backend)->set_scene(scene)) {
+        std::fprintf(stderr, "denoise_filter_bench: no Embree backend for the scene\n");
+        std::exit(1);
+    }
+    Frame f;
+    f.image = FloatImage(w, h);
+    std::vector<FirstHit> hits(std::size_t(w) * std::size_t(h));
+    const tracer::RenderJob job{
+        FrameSpec{w, h, 1, 3, 1, 0, camera}, IntegratorSettings{}, 0, h, {}, hits.data()};
+    if (!(*backend)->render_rows(job, f.image.rgb.data())) std::exit(1);
+    for (FirstHit& hit : hits)
+        if (hit.hit()) ++hit.instance;  // the G-buffer's ids count from 1
+    f.view.camera = camera;
+    f.view.gbuffer = coord::gbuffer_from_first_hits(hits, w, h, camera, w, h);
+    for (std::size_t i = 0; i < scene.instances.size(); ++i)
+        f.view.instances[uint32_t(i + 1)] = scene.instances[i].transform;
+    return f;
+}
+
+void run(const std::string& spec, const SceneModel& scene, int w, int h, int runs, int threads) {
+    const Frame f = render_frame(scene, w, h);
+    std::vector<double> temporal, single;
+    coord::Denoiser denoiser;
+    for (int r = 0; r < runs; ++r) {
+        FloatImage a = f.image, b = f.image;
+        const Timer t1;
+        denoiser.filter(a, f.view, true);
+        temporal.push_back(t1.milliseconds());
+        const Timer t2;
+        coord::denoise_frame(b, f.view.gbuffer, f.view.camera);
+        single.push_back(t2.milliseconds());
+    }
+    for (const auto& [mode, ms] : {std::pair{"temporal", temporal}, std::pair{"single", single}})
+        std::printf("%s,%d,%d,%s,%d,%.3f,%.3f,%d\n", spec.c_str(), w, h, mode, threads,
+                    percentile(ms, 0.5), percentile(ms, 0.95), runs);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 5 || (argc - 4) % 2 != 0) {
+        std::fprintf(stderr,
+                     "usage: pathfarm-denoise-filter-bench SCENE RUNS THREADS W H [W H ...]\n");
+        return 2;
+    }
+    init_logging("denoise-filter-bench", "warn");
+    const std::string spec = argv[1];
+    const int runs = std::max(1, std::atoi(argv[2])), threads = std::atoi(argv[3]);
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              threads > 0 ? std::size_t(threads) : std::size_t(1) << 16);
+    auto scene = load_scene(spec);
+    if (!scene) {
+        std::fprintf(stderr, "denoise_filter_bench: %s\n", scene.error().message.c_str());
+        return 1;
+    }
+    std::printf("scene,width,height,mode,threads,median_ms,p95_ms,runs\n");
+    for (int i = 4; i + 1 < argc; i += 2)
+        run(spec, *scene, std::atoi(argv[i]), std::atoi(argv[i + 1]), runs, threads);
+    return 0;
+}
