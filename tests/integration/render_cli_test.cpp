@@ -43,6 +43,37 @@ TEST(RenderCli, RendersCornellWithoutNonFinitePixels) {
     EXPECT_GT(img->pixel(24, 10).x, 0.0f);
 }
 
+double printed_relative_mse(const std::string& output) {
+    const std::size_t at = output.find("rel_mse=");
+    return at == std::string::npos ? -1.0 : std::stod(output.substr(at + 8));
+}
+
+// --denoise: the same linear output format, the filtered image, much closer to the reference.
+TEST(RenderCli, DenoiseWritesTheFilteredLinearImage) {
+    const std::string dir = test::scratch_dir();
+    const std::string size = "--scene builtin:cornell --width 48 --height 48 ";
+    ASSERT_EQ(run_cli(size + "--spp 1024 --seed 9 --out " + dir + "/ref.pfm").exit_code, 0);
+    const CliRun plain =
+        run_cli(size + "--spp 2 --reference " + dir + "/ref.pfm --out " + dir + "/plain.pfm");
+    const CliRun denoised = run_cli(size + "--spp 2 --denoise --reference " + dir +
+                                    "/ref.pfm --out " + dir + "/denoised.pfm");
+    ASSERT_EQ(plain.exit_code, 0) << plain.output;
+    ASSERT_EQ(denoised.exit_code, 0) << denoised.output;
+    EXPECT_NE(denoised.output.find("denoised in"), std::string::npos) << denoised.output;
+    const double before = printed_relative_mse(plain.output),
+                 after = printed_relative_mse(denoised.output);
+    ASSERT_GT(before, 0.0) << plain.output;
+    ASSERT_GE(after, 0.0) << denoised.output;
+    EXPECT_LT(after, 0.5 * before) << before << " -> " << after;
+    auto img = read_image(dir + "/denoised.pfm");
+    ASSERT_TRUE(img.ok());
+    EXPECT_EQ(count_nonfinite(*img), 0u);
+    float brightest = 0.0f;  // linear radiance: the lamp is far above 1
+    for (float v : img->rgb)
+        brightest = std::max(brightest, v);
+    EXPECT_GT(brightest, 2.0f);
+}
+
 TEST(RenderCli, BadInputGivesOneLineErrors) {
     const std::string dir = test::scratch_dir();
     const CliRun missing = run_cli("--scene " + dir + "/missing.gltf --out " + dir + "/x.exr");
