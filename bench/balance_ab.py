@@ -12,7 +12,7 @@ import os
 import statistics
 import tempfile
 
-from bench_common import ROOT, SCENES, start, wait_for, write_csv
+from bench_common import ROOT, SCENES, start, wait_for, write_csv, batch_mode
 
 TRACES = os.path.join(ROOT, "tools", "balance-sim", "traces")
 
@@ -23,7 +23,7 @@ def coordinator_args(a, scheme, stats, tracer_stats):
             "--stats-csv", stats, "--tracer-stats-csv", tracer_stats]
     if a.realtime:
         return args + ["--spp", "2", "--target-fps", "10"]
-    return args + ["--spp", "4", "--fixed-spp", "--no-converge", "--game", "free-camera"]
+    return args + ["--spp", "4"] + batch_mode(f"{a.build}/coordinator/pathfarm-coordinator")
 
 
 def one_run(a, scheme, work):

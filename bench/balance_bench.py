@@ -10,7 +10,7 @@ import statistics
 import subprocess
 import tempfile
 
-from bench_common import ROOT, SCENES, wait_for, write_csv
+from bench_common import ROOT, SCENES, wait_for, write_csv, batch_mode
 from bench_common import run as run_tool
 
 SCHEMES = ["none", "robin-hood", "perfect", "perfect-smooth", "cost-predictive"]
@@ -24,7 +24,7 @@ def live(build, scheme, frames, work, hiccup_p=0.0):
     coordinator = subprocess.Popen(
         [f"{build}/coordinator/pathfarm-coordinator", "--scene", f"{SCENES}/dabrovic-sponza/sponza.obj", "--tracer-port",
          "0", "--client-port", "0", "--width", "320", "--height", "180", "--spp", "4", "--frames", str(frames),
-         "--min-tracers", "2", "--balancer", scheme, "--stats-csv", stats, "--fixed-spp", "--no-converge"], stdout=open(log, "w"), stderr=subprocess.STDOUT)
+         "--min-tracers", "2", "--balancer", scheme, "--stats-csv", stats, *batch_mode(f"{build}/coordinator/pathfarm-coordinator")], stdout=open(log, "w"), stderr=subprocess.STDOUT)
     ports = wait_for(log, r"tracer_port=(\d+) client_port=(\d+)", "balance_bench")
     client = subprocess.Popen([f"{build}/client/pathfarm-client", "--connect", f"127.0.0.1:{ports.group(2)}", "--headless",
                                "--frames", str(frames), "--script", os.path.join(TRACES, "slow_path.txt")],

@@ -23,6 +23,20 @@ def start(cmd, log):
     return subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT)
 
 
+_BATCH = {}
+
+
+def batch_mode(coordinator):
+    """The coordinator arguments of the batch contract (docs/determinism.md): every frame at
+    --spp and full size, its own samples, no game logic, no denoiser (for builds that have
+    one: benchmarks also run older builds)."""
+    if coordinator not in _BATCH:
+        has_denoise = "--denoise" in subprocess.run([coordinator, "--help"], capture_output=True, text=True).stdout
+        _BATCH[coordinator] = ["--fixed-spp", "--no-converge", "--game", "free-camera"] + (
+            ["--denoise", "off"] if has_denoise else [])
+    return list(_BATCH[coordinator])
+
+
 def write_csv(path, header, rows):
     with open(path, "w", newline="") as f:
         w = csv.writer(f)

@@ -13,7 +13,7 @@ import statistics
 import subprocess
 import tempfile
 
-from bench_common import ROOT, rmse, start, wait_for, write_csv
+from bench_common import ROOT, rmse, start, wait_for, write_csv, batch_mode
 from bench_common import run as run_tool
 
 
@@ -25,7 +25,7 @@ def farm(build, work, tracers, threads, a):
                          "--client-port", "0", "--width", str(a.width), "--height", str(a.height), "--spp", str(a.spp),
                          "--frames", str(a.frames), "--min-tracers", str(tracers), "--stats-csv", f"{work}/stats.csv",
                          "--stages-csv", f"{work}/stages.csv", "--dump-frames", f"{work}/dump",
-                         "--fixed-spp", "--no-converge", "--game", "free-camera"], log)
+                         *batch_mode(f"{build}/coordinator/pathfarm-coordinator")], log)
     port = wait_for(log, r"tracer_port=(\d+)", "farm_bench").group(1)
     procs = [start([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{port}", "--threads",
                     str(threads), "--name", f"t{i}", "--max-reconnects", "0"], os.path.join(work, f"t{i}.log"))

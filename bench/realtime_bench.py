@@ -99,7 +99,9 @@ def converge(a, work, scene):
               str(h), "--spp", str(a.reference_spp), "--frame", "1000000", "--out", ref, "--log-level", "error"],
              "realtime_bench")
     curves = {}
-    for variant, extra in (("converge", []), ("no_converge", ["--no-converge"])):
+    # Converging alone: the denoiser (docs/denoise.md, bench/denoise_bench.py) is measured apart.
+    for variant, extra in (("converge", ["--denoise", "off"]),
+                           ("no_converge", ["--no-converge", "--denoise", "off"])):
         dump = os.path.join(work, f"dump_{variant}")
         log = os.path.join(work, f"{variant}.log")
         c = start([f"{a.build}/coordinator/pathfarm-coordinator", "--scene", scene, "--tracer-port", "0",

@@ -23,7 +23,7 @@ import subprocess
 import sys
 import tempfile
 
-from bench_common import ROOT, SCENES, errors, start, wait_for, write_csv
+from bench_common import ROOT, SCENES, errors, start, wait_for, write_csv, batch_mode
 from bench_common import run as run_tool
 
 FULL_SCENES = [
@@ -75,7 +75,7 @@ def farm_point(a, scene, spp, ref, work):
     coordinator = start(
         [f"{build}/coordinator/pathfarm-coordinator", "--scene", scene, "--tracer-port", "0", "--width",
          str(a.width), "--height", str(a.height), "--spp", str(spp), "--frames", "3", "--min-tracers", "2",
-         "--fixed-spp", "--no-converge", "--game", "free-camera", "--stats-csv", stats, "--dump-frames", dump],
+         *batch_mode(f"{build}/coordinator/pathfarm-coordinator"), "--stats-csv", stats, "--dump-frames", dump],
         log)
     port = wait_for(log, r"tracer_port=(\d+)", "time_vs_error").group(1)
     tracers = [subprocess.Popen([f"{build}/tracer-node/pathfarm-tracer", "--coordinator", f"127.0.0.1:{port}",
