@@ -15,7 +15,8 @@
 // absolute frame-to-frame change of the error over the reference's mean, on the frame after a
 // pair's first; empty elsewhere) and writes `<out>/denoise_<path>_strip.png` (raw, converging,
 // denoised, reference at the strip frame). Arguments: path, scenes folder, cache folder, out
-// folder, frames (121), reference spp (512), strip frame (60).
+// folder, frames (121), reference spp (512), strip frame (60), the wavelet's kernel radius (1)
+// and levels (5).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -133,6 +134,7 @@ bool is_reference_frame(int k) { return (k % 10 == 0 && k > 0) || (k % 20 == 1 &
 struct Args {
     std::string path, cache, out;
     int frames = 121, ref_spp = 512, strip_frame = 60;
+    coord::DenoiseOptions denoise;
 };
 
 // The cached reference of frame k, or a fresh render of it (written to the cache).
@@ -152,7 +154,7 @@ class PathRun {
 public:
     PathRun(const Args& a, const PathSpec& spec, coord::FramePipeline& pipeline,
             tracer::RenderBackend& backend)
-        : a_(a), spec_(spec), pipeline_(pipeline), backend_(backend) {}
+        : a_(a), spec_(spec), pipeline_(pipeline), backend_(backend), denoiser_(a.denoise) {}
 
     void frame(int k) {
         coord::PlayerInput input = spec_.input(k);
@@ -217,7 +219,7 @@ int main(int argc, char** argv) {
     if (argc < 5) {
         std::fprintf(stderr,
                      "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
-                     "[REF_SPP] [STRIP_FRAME]\n");
+                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS]\n");
         return 2;
     }
     init_logging("denoise-bench", "warn");
@@ -225,6 +227,8 @@ int main(int argc, char** argv) {
     if (argc > 5) a.frames = std::atoi(argv[5]);
     if (argc > 6) a.ref_spp = std::atoi(argv[6]);
     if (argc > 7) a.strip_frame = std::atoi(argv[7]);
+    if (argc > 8) a.denoise.atrous.radius = std::atoi(argv[8]);
+    if (argc > 9) a.denoise.atrous.levels = std::atoi(argv[9]);
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

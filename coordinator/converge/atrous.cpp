@@ -63,7 +63,7 @@ constexpr int kLanes = 8;
 
 // A row's planes, each pointing at the row's first pixel (padded layout).
 struct Row {
-    const float *nx, *ny, *nz, *px, *py, *pz, *offset, *inv_plane, *inv_lum;
+    const float *nx, *ny, *nz, *z, *slope, *offset, *inv_plane, *inv_lum;
     const float *r, *g, *b, *var;
     float *out_r, *out_g, *out_b, *out_var;
 };
@@ -71,9 +71,11 @@ struct Row {
 // A level's taps: index offsets, kernel weights and the plane tolerance's inverse growth (a tap
 // further away may lie further off the centre's tangent plane on a curved or normal-mapped
 // surface: one footprint plus kPlaneSlope per pixel of distance).
+// Its tangent-plane step: how far the tap's film point lies from the centre's (dx, dy: in the
+// film's units at unit depth, y up).
 struct Taps {
     std::ptrdiff_t offset[kMaxTaps];
-    float k[kMaxTaps], inv_distance[kMaxTaps];
+    float k[kMaxTaps], inv_distance[kMaxTaps], dx[kMaxTaps], dy[kMaxTaps];
     float k0;
 };
 
@@ -84,7 +86,7 @@ struct TapSums {
 
 // The centre pixels' values a tap weight needs.
 struct Centre {
-    vf nx, ny, nz, offset, inv_plane, lum, inv_lum;
+    vf nx, ny, nz, slope, offset, inv_plane, lum, inv_lum;
 };
 
 // Tap j of centres [x, x + 8), unrolled at compile time.
@@ -101,8 +103,9 @@ template <int j>
     wn *= wn;
     wn *= wn;
     wn *= wn;
-    const vf plane =
-        vabs(c.nx * load(a.px + q) + c.ny * load(a.py + q) + c.nz * load(a.pz + q) - c.offset);
+    // The tap's point is z_q (f_p + (dx, dy, 0)) in camera space (f: the film point at unit
+    // depth), so n_p . point = z_q (n_p . f_p + n_p.x dx + n_p.y dy): one plane to read.
+    const vf plane = vabs(load(a.z + q) * (c.slope + c.nx * t.dx[j] + c.ny * t.dy[j]) - c.offset);
     const vf edge =
         plane * c.inv_plane * t.inv_distance[j] + vabs(c.lum - luminance(r, g, b)) * c.inv_lum;
     const vf w = t.k[j] * wn * exp_nonpositive(-edge);
@@ -119,8 +122,8 @@ template <int... j>
 [[gnu::always_inline]] inline void filter_row_body(const Row& a, const Taps& t, int n,
                                                    std::integer_sequence<int, j...>) {
     for (int x = 0; x < n; x += kLanes) {
-        Centre c{load(a.nx + x),        load(a.ny + x), load(a.nz + x),     load(a.offset + x),
-                 load(a.inv_plane + x), vf{},           load(a.inv_lum + x)};
+        Centre c{load(a.nx + x),     load(a.ny + x),        load(a.nz + x), load(a.slope + x),
+                 load(a.offset + x), load(a.inv_plane + x), vf{},           load(a.inv_lum + x)};
         const vf r = load(a.r + x), g = load(a.g + x), b = load(a.b + x), var = load(a.var + x);
         c.lum = luminance(r, g, b);
         TapSums s{splat(t.k0), t.k0 * r, t.k0 * g, t.k0 * b, (t.k0 * t.k0) * var};
@@ -146,7 +149,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void filter_row_5x5(
     filter_row_body(a, t, n, std::make_integer_sequence<int, 24>());
 }
 
-Taps taps_of(int radius, int step, std::ptrdiff_t stride) {
+Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch) {
     Taps t{};
     t.k0 = kernel(radius, 0) * kernel(radius, 0);
     int j = 0;
@@ -155,6 +158,8 @@ Taps taps_of(int radius, int step, std::ptrdiff_t stride) {
             if (tx == 0 && ty == 0) continue;
             t.offset[j] = std::ptrdiff_t(ty) * step * stride + std::ptrdiff_t(tx) * step;
             t.k[j] = kernel(radius, tx) * kernel(radius, ty);
+            t.dx[j] = pitch * float(tx * step);
+            t.dy[j] = -pitch * float(ty * step);  // rows go down, the film's y up
             t.inv_distance[j] =
                 1.0f / (1.0f + kPlaneSlope * float(step) * std::sqrt(float(tx * tx + ty * ty)));
             ++j;
@@ -183,30 +188,35 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
         stride_ = width_ + 2 * pad_;
         const std::size_t n = std::size_t(stride_) * std::size_t(height_ + 2 * pad_);
         for (std::vector<float>* p :
-             {&nx_, &ny_, &nz_, &px_, &py_, &pz_, &offset_, &inv_plane_, &rgb_[0][0], &rgb_[0][1],
+             {&nx_, &ny_, &nz_, &z_, &slope_, &offset_, &inv_plane_, &rgb_[0][0], &rgb_[0][1],
               &rgb_[0][2], &rgb_[1][0], &rgb_[1][1], &rgb_[1][2], &var_[0], &var_[1], &inv_lum_})
             p->assign(n, 0.0f);  // the padding stays zero: a zero normal is no one's tap
     }
-    const Vec3 eye = transform_point(camera.camera_to_world, Vec3(0.0f));
-    const float pixel_angle = 2.0f * std::tan(0.5f * camera.yfov_radians) / float(height_);
+    // Camera space: normals rotated into it, points as depth along the view axis times the
+    // pixel centre's film point (x, y, -1) at unit depth (generate_camera_ray's inverse).
+    const Mat4 world_to_camera = glm::inverse(camera.camera_to_world);
+    const float tan_half = std::tan(0.5f * camera.yfov_radians);
+    pitch_ = 2.0f * tan_half / float(height_);
+    const float aspect = float(width_) / float(height_);
     for_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
             const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
             if (!filter[i]) {
-                nx_[k] = ny_[k] = nz_[k] = px_[k] = py_[k] = pz_[k] = offset_[k] = 0.0f;
-                inv_plane_[k] = 0.0f;
+                nx_[k] = ny_[k] = nz_[k] = z_[k] = slope_[k] = offset_[k] = inv_plane_[k] = 0.0f;
                 continue;
             }
-            const Vec3 n = g.normal[i], p = g.position[i] - eye;
+            const Vec3 n = glm::normalize(transform_vector(world_to_camera, g.normal[i]));
+            const Vec3 film((2.0f * (float(x) + 0.5f) / float(width_) - 1.0f) * tan_half * aspect,
+                            (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half, -1.0f);
+            const float z = g.distance[i] / glm::length(film);
             nx_[k] = n.x;
             ny_[k] = n.y;
             nz_[k] = n.z;
-            px_[k] = p.x;
-            py_[k] = p.y;
-            pz_[k] = p.z;
-            offset_[k] = glm::dot(n, p);
-            inv_plane_[k] = 1.0f / (o_.sigma_plane * g.distance[i] * pixel_angle);
+            z_[k] = z;
+            slope_[k] = glm::dot(n, film);
+            offset_[k] = z * slope_[k];
+            inv_plane_[k] = 1.0f / (o_.sigma_plane * g.distance[i] * pitch_);
         }
     });
 }
@@ -242,7 +252,7 @@ void AtrousFilter::level(int step, int from) {
     const std::vector<float>& var = var_[from];
     const int w = width_, h = height_;
     const auto row_start = [&](int y) { return std::size_t(y + pad_) * stride_ + pad_; };
-    const Taps taps = taps_of(o_.radius, step, stride_);
+    const Taps taps = taps_of(o_.radius, step, stride_, pitch_);
     const int to = 1 - from;
     for_rows(h, [&](int y) {
         const std::size_t k = row_start(y);
@@ -264,10 +274,10 @@ void AtrousFilter::level(int step, int from) {
         }
         inv_lum[0] = tolerance(0.75f * column(0) + 0.25f * column(std::min(1, w - 1)));
         inv_lum[w - 1] = tolerance(0.75f * column(w - 1) + 0.25f * column(std::max(0, w - 2)));
-        const Row row{
-            &nx_[k],     &ny_[k],         &nz_[k],         &px_[k],         &py_[k],     &pz_[k],
-            &offset_[k], &inv_plane_[k],  &inv_lum_[k],    &in[0][k],       &in[1][k],   &in[2][k],
-            &var[k],     &rgb_[to][0][k], &rgb_[to][1][k], &rgb_[to][2][k], &var_[to][k]};
+        const Row row{&nx_[k],         &ny_[k],         &nz_[k],         &z_[k],
+                      &slope_[k],      &offset_[k],     &inv_plane_[k],  &inv_lum_[k],
+                      &in[0][k],       &in[1][k],       &in[2][k],       &var[k],
+                      &rgb_[to][0][k], &rgb_[to][1][k], &rgb_[to][2][k], &var_[to][k]};
         if (o_.radius == 1)
             filter_row_3x3(row, taps, w);
         else

@@ -41,8 +41,10 @@ private:
 
     AtrousOptions o_;
     int width_ = 0, height_ = 0, pad_ = 0, stride_ = 0;
-    // Guide (padded): normal, position, n . p, inverse plane tolerance (0: not filtered).
-    std::vector<float> nx_, ny_, nz_, px_, py_, pz_, offset_, inv_plane_;
+    float pitch_ = 0.0f;  // a pixel's width on the film at unit depth
+    // Guide (padded, camera space): normal, depth along the view axis, n . film point, n .
+    // point, inverse plane tolerance (0: not filtered).
+    std::vector<float> nx_, ny_, nz_, z_, slope_, offset_, inv_plane_;
     // Colour and variance, in and out of a level (padded), and the luminance tolerance's inverse.
     std::vector<float> rgb_[2][3], var_[2], inv_lum_;
 };
