@@ -12,9 +12,8 @@
 #include <cstring>
 #include <utility>
 
-#include <tbb/parallel_for.h>
-
 #include "common/math/transform.h"
+#include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
 namespace {
@@ -167,14 +166,6 @@ Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch) {
     return t;
 }
 
-template <typename F>
-void for_rows(int h, F&& f) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-            f(y);
-    });
-}
-
 }  // namespace
 
 void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
@@ -198,7 +189,7 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
     const float tan_half = std::tan(0.5f * camera.yfov_radians);
     pitch_ = 2.0f * tan_half / float(height_);
     const float aspect = float(width_) / float(height_);
-    for_rows(height_, [&](int y) {
+    parallel_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
             const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
@@ -222,7 +213,7 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
 }
 
 void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance) {
-    for_rows(height_, [&](int y) {
+    parallel_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
             const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
@@ -234,7 +225,7 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance)
     int from = 0;
     for (int l = 0; l < o_.levels; ++l, from = 1 - from)
         level(1 << l, from);
-    for_rows(height_, [&](int y) {
+    parallel_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
             const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
@@ -254,7 +245,7 @@ void AtrousFilter::level(int step, int from) {
     const auto row_start = [&](int y) { return std::size_t(y + pad_) * stride_ + pad_; };
     const Taps taps = taps_of(o_.radius, step, stride_, pitch_);
     const int to = 1 - from;
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         const std::size_t k = row_start(y);
         const float* rows[3] = {&var[row_start(std::max(0, y - 1))], &var[k],
                                 &var[row_start(std::min(h - 1, y + 1))]};

@@ -5,19 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+
+#include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
 namespace {
-
-template <typename F>
-void for_rows(int h, F&& f) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-            f(y);
-    });
-}
 
 // The base colour the light is divided by: 1 on the sky (nothing to divide).
 Rgb demodulator(const GBuffer& g, std::size_t i, float floor) {
@@ -37,13 +30,13 @@ bool near_sharp(const GBuffer& g, int x, int y) {
 // 3x3 Gaussian (edges replicated) of `v` into `out`, through `tmp`.
 void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<float>& out, int w,
            int h) {
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         const float* in = &v[std::size_t(y) * w];
         float* t = &tmp[std::size_t(y) * w];
         for (int x = 0; x < w; ++x)
             t[x] = 0.25f * (in[std::max(0, x - 1)] + in[std::min(w - 1, x + 1)]) + 0.5f * in[x];
     });
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         const float* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
         const float* mid = &tmp[std::size_t(y) * w];
         const float* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
@@ -93,7 +86,7 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
     m1_.resize(n);
     m2_.resize(n);
     tmp_.resize(n);
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
             m1_[i] = moments[i].x;
             m2_[i] = moments[i].y;
@@ -103,7 +96,7 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
         blur3(*m, tmp_, variance_, w, h);  // variance_ as scratch
         blur3(variance_, tmp_, *m, w, h);
     }
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
             const float k = frames ? (*frames)[i] : 1.0f;
             const float own = moments[i].y - moments[i].x * moments[i].x;
@@ -123,7 +116,7 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
     }
     DenoiseStats stats;
     stats.filtered = prepare(g, view.camera);
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
             for (int c = 0; c < 3; ++c)
                 image.rgb[3 * i + c] /= albedo_[i][c];
@@ -134,7 +127,7 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
         estimate_variance(accumulator_.moments(), &accumulator_.history_frames(), w, h);
     } else {
         moments_.resize(std::size_t(w) * std::size_t(h));
-        for_rows(h, [&](int y) {
+        parallel_rows(h, [&](int y) {
             for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
                 const float l =
                     luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
@@ -145,7 +138,7 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
         stats.converge = {1.0, 0.0, 1.0};
     }
     atrous_.filter(image, variance_);
-    for_rows(h, [&](int y) {
+    parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
             for (int c = 0; c < 3; ++c)
                 image.rgb[3 * i + c] *= albedo_[i][c];
