@@ -16,7 +16,7 @@
 // pair's first; empty elsewhere) and writes `<out>/denoise_<path>_strip.png` (raw, converging,
 // denoised, reference at the strip frame). Arguments: path, scenes folder, cache folder, out
 // folder, frames (121), reference spp (512), strip frame (60), the wavelet's kernel radius (1)
-// and levels (5).
+// and levels (5), the firefly clamp's ratio (2; 0: off).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
     if (argc < 5) {
         std::fprintf(stderr,
                      "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
-                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS]\n");
+                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [FIREFLY_RATIO]\n");
         return 2;
     }
     init_logging("denoise-bench", "warn");
@@ -229,6 +229,7 @@ int main(int argc, char** argv) {
     if (argc > 7) a.strip_frame = std::atoi(argv[7]);
     if (argc > 8) a.denoise.atrous.radius = std::atoi(argv[8]);
     if (argc > 9) a.denoise.atrous.levels = std::atoi(argv[9]);
+    if (argc > 10) a.denoise.firefly_ratio = float(std::atof(argv[10]));
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

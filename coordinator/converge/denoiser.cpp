@@ -5,27 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/parallel_reduce.h>
-
 #include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
 namespace {
-
-// The base colour the light is divided by: 1 on the sky (nothing to divide).
-Rgb demodulator(const GBuffer& g, std::size_t i, float floor) {
-    return g.hit(i) ? glm::max(g.albedo[i], Rgb(floor)) : Rgb(1.0f);
-}
-
-// A pixel whose centre sees a plain surface next to one that sees an emitter or a mirror:
-// its other samples may have seen them too (an emitter's edge can be a hundred times brighter
-// than the surface), so its light is no smooth irradiance to spread either.
-bool near_sharp(const GBuffer& g, int x, int y) {
-    for (int sy = std::max(0, y - 1); sy <= std::min(g.height - 1, y + 1); ++sy)
-        for (int sx = std::max(0, x - 1); sx <= std::min(g.width - 1, x + 1); ++sx)
-            if (g.sharp[std::size_t(sy) * g.width + sx]) return true;
-    return false;
-}
 
 // 3x3 Gaussian (edges replicated) of `v` into `out`, through `tmp`.
 void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<float>& out, int w,
@@ -49,24 +32,41 @@ void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<flo
 }  // namespace
 
 // The frame's G-buffer into the filter's guide: which pixels it filters, and their base colour.
+// Not filtered: the sky, sharp pixels, and pixels next to a sharp one (their other samples may
+// have seen the emitter or the mirror too: an emitter's edge can be a hundred times brighter
+// than the surface, so their light is no smooth irradiance to spread either). The sharp mask
+// is dilated by a row pass and a column pass.
 double Denoiser::prepare(const GBuffer& g, const Camera& camera) {
+    const int w = g.width, h = g.height;
     const std::size_t n = g.distance.size();
     filter_mask_.resize(n);
+    near_sharp_.resize(n);
     albedo_.resize(n);
-    const double filtered = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, g.height), 0.0,
-        [&](const tbb::blocked_range<int>& rows, double count) {
-            for (int y = rows.begin(); y < rows.end(); ++y)
-                for (int x = 0; x < g.width; ++x) {
-                    const std::size_t i = std::size_t(y) * g.width + x;
-                    filter_mask_[i] = g.hit(i) && !near_sharp(g, x, y);
-                    albedo_[i] = demodulator(g, i, o_.albedo_floor);
-                    count += filter_mask_[i];
-                }
-            return count;
-        },
-        std::plus<double>());
+    parallel_rows(h, [&](int y) {
+        const uint8_t* sharp = &g.sharp[std::size_t(y) * w];
+        uint8_t* dilated = &near_sharp_[std::size_t(y) * w];
+        for (int x = 0; x < w; ++x)
+            dilated[x] = sharp[std::max(0, x - 1)] | sharp[x] | sharp[std::min(w - 1, x + 1)];
+    });
+    std::vector<int> filtered_per_row(std::size_t(h), 0);
+    parallel_rows(h, [&](int y) {
+        const uint8_t* up = &near_sharp_[std::size_t(std::max(0, y - 1)) * w];
+        const uint8_t* mid = &near_sharp_[std::size_t(y) * w];
+        const uint8_t* down = &near_sharp_[std::size_t(std::min(h - 1, y + 1)) * w];
+        int count = 0;
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const bool hit = g.hit(i);
+            filter_mask_[i] = hit && !(up[x] | mid[x] | down[x]);
+            albedo_[i] = hit ? glm::max(g.albedo[i], Rgb(o_.albedo_floor)) : Rgb(1.0f);
+            count += filter_mask_[i];
+        }
+        filtered_per_row[std::size_t(y)] = count;
+    });
     atrous_.set_guide(g, camera, filter_mask_);
+    double filtered = 0.0;
+    for (int c : filtered_per_row)
+        filtered += c;
     return n ? filtered / double(n) : 0.0;
 }
 
@@ -107,6 +107,35 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
     });
 }
 
+// A firefly is a single pixel far brighter than everything around it: spread by the wavelet
+// it becomes a blob. Each filtered pixel's light is scaled down to firefly_ratio times the
+// brightest of its eight neighbours' luminance (a highlight or an edge has bright neighbours
+// and is left alone). The image given to the wavelet only: the accumulator's history keeps
+// every sample, so a still view still converges to the unclamped mean.
+void Denoiser::clamp_fireflies(FloatImage& image) {
+    const int w = image.width, h = image.height;
+    lum_.resize(std::size_t(w) * std::size_t(h));
+    parallel_rows(h, [&](int y) {
+        for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
+            lum_[i] = luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
+    });
+    parallel_rows(h, [&](int y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (!filter_mask_[i]) continue;
+            float brightest = 0.0f;
+            for (int sy = std::max(0, y - 1); sy <= std::min(h - 1, y + 1); ++sy)
+                for (int sx = std::max(0, x - 1); sx <= std::min(w - 1, x + 1); ++sx)
+                    if (sx != x || sy != y)
+                        brightest = std::max(brightest, lum_[std::size_t(sy) * w + sx]);
+            const float limit = o_.firefly_ratio * brightest;
+            if (lum_[i] > limit && lum_[i] > 0.0f)
+                for (int c = 0; c < 3; ++c)
+                    image.rgb[3 * i + c] *= limit / lum_[i];
+        }
+    });
+}
+
 DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) {
     const GBuffer& g = view.gbuffer;
     const int w = image.width, h = image.height;
@@ -137,6 +166,7 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
         estimate_variance(moments_, nullptr, w, h);
         stats.converge = {1.0, 0.0, 1.0};
     }
+    if (o_.firefly_ratio > 0.0f) clamp_fireflies(image);
     atrous_.filter(image, variance_);
     parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)

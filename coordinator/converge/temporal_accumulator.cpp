@@ -133,6 +133,13 @@ void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
     previous_ = std::move(view);
 }
 
+void TemporalAccumulator::keep(FrameView view) {
+    std::swap(history_, next_history_);
+    std::swap(frames_, next_frames_);
+    std::swap(moments_, next_moments_);
+    previous_ = std::move(view);
+}
+
 ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     const int w = image.width, h = image.height;
     const std::size_t n = std::size_t(w) * h;
@@ -142,11 +149,11 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
         return {1.0, 0.0, 1.0};
     }
     const FrameView& prev = *previous_;
-    const Motion motion = motion_between(prev, view);
+    const Motion motion = motion_between(prev, view);  // camera and instances since `prev`
     const CameraProjector project_prev(prev.camera, w, h);
-    FloatImage out(w, h);
-    std::vector<float> frames(n, 1.0f);
-    std::vector<Vec2> moments(n);
+    // Every pixel of these is written below; kept from frame to frame to spare the allocations.
+    if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
+    next_frames_.resize(n), next_moments_.resize(n);
     const Totals totals = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h), Totals{},
         [&](const tbb::blocked_range<int>& rows, Totals t) {
@@ -154,12 +161,13 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                 for (int x = 0; x < w; ++x) {
                     const Rgb c = image.pixel(x, y);
                     const float l = luminance(c);
-                    Vec2& m = moments[std::size_t(y) * w + x];
+                    Vec2& m = next_moments_[std::size_t(y) * w + x];
                     m = Vec2(l, l * l);
                     const Reprojection r =
                         reproject(motion, project_prev, prev, view, o_.depth_tolerance, x, y);
                     if (!r.valid) {
-                        out.set_pixel(x, y, c);
+                        next_history_.set_pixel(x, y, c);
+                        next_frames_[std::size_t(y) * w + x] = 1.0f;
                         t.f += 1.0;
                         t.frames += 1.0;
                         continue;
@@ -175,10 +183,10 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                         k = std::min(k, 1.0f / floor);
                     }
                     const float f = 1.0f / k;
-                    out.set_pixel(x, y, history + f * (c - history));
+                    next_history_.set_pixel(x, y, history + f * (c - history));
                     const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
                     m = mh + f * (m - mh);
-                    frames[std::size_t(y) * w + x] = k;
+                    next_frames_[std::size_t(y) * w + x] = k;
                     t.f += f;
                     t.kept += 1.0;
                     t.frames += k;
@@ -186,11 +194,8 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
             return t;
         },
         [](const Totals& a, const Totals& b) { return a + b; });
-    image = out;
-    history_ = std::move(out);
-    frames_ = std::move(frames);
-    moments_ = std::move(moments);
-    previous_ = std::move(view);
+    image.rgb = next_history_.rgb;
+    keep(std::move(view));
     return {totals.f / double(n), totals.kept / double(n), totals.frames / double(n)};
 }
 

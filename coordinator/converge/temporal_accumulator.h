@@ -56,12 +56,16 @@ public:
 
 private:
     void start_over(const FloatImage& image, FrameView view);  // this frame's samples alone
+    void keep(FrameView view);  // the blend's outputs become the history
 
     ConvergeOptions o_;
     FloatImage history_;
     std::vector<float> frames_;
     std::vector<Vec2> moments_;
     std::optional<FrameView> previous_;
+    FloatImage next_history_;  // the blend's outputs before they become the history
+    std::vector<float> next_frames_;
+    std::vector<Vec2> next_moments_;
 };
 
 }  // namespace pathfarm::coord
