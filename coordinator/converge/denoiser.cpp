@@ -10,14 +10,17 @@
 namespace pathfarm::coord {
 namespace {
 
-// 3x3 Gaussian (edges replicated) of `v` into `out`, through `tmp`.
+// 3x3 Gaussian (edges replicated) of `v` into `out`, through `tmp`. The loops over a row's
+// interior have no clamps, so they vectorise.
 void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<float>& out, int w,
            int h) {
     parallel_rows(h, [&](int y) {
         const float* in = &v[std::size_t(y) * w];
         float* t = &tmp[std::size_t(y) * w];
-        for (int x = 0; x < w; ++x)
-            t[x] = 0.25f * (in[std::max(0, x - 1)] + in[std::min(w - 1, x + 1)]) + 0.5f * in[x];
+        for (int x = 1; x + 1 < w; ++x)
+            t[x] = 0.25f * (in[x - 1] + in[x + 1]) + 0.5f * in[x];
+        t[0] = 0.75f * in[0] + 0.25f * in[std::min(1, w - 1)];
+        t[w - 1] = 0.75f * in[w - 1] + 0.25f * in[std::max(0, w - 2)];
     });
     parallel_rows(h, [&](int y) {
         const float* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
@@ -114,24 +117,43 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
 // every sample, so a still view still converges to the unclamped mean.
 void Denoiser::clamp_fireflies(FloatImage& image) {
     const int w = image.width, h = image.height;
-    lum_.resize(std::size_t(w) * std::size_t(h));
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    lum_.resize(n);
+    row_max3_.resize(n);
+    row_max2_.resize(n);
+    // Per row: luminance, then the maximum over (x - 1, x, x + 1) and over (x - 1, x + 1);
+    // the eight neighbours' maximum is then max(max3 above, max3 below, max2 beside).
     parallel_rows(h, [&](int y) {
-        for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
-            lum_[i] = luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
+        const std::size_t r = std::size_t(y) * w;
+        const float* rgb = &image.rgb[3 * r];
+        float* l = &lum_[r];
+        for (int x = 0; x < w; ++x)
+            l[x] = luminance(Rgb(rgb[3 * x], rgb[3 * x + 1], rgb[3 * x + 2]));
+        float *m3 = &row_max3_[r], *m2 = &row_max2_[r];
+        for (int x = 1; x + 1 < w; ++x) {
+            m2[x] = std::max(l[x - 1], l[x + 1]);
+            m3[x] = std::max(m2[x], l[x]);
+        }
+        m2[0] = w > 1 ? l[1] : 0.0f;
+        m3[0] = std::max(l[0], m2[0]);
+        m2[w - 1] = w > 1 ? l[w - 2] : 0.0f;
+        m3[w - 1] = std::max(l[w - 1], m2[w - 1]);
     });
     parallel_rows(h, [&](int y) {
+        const std::size_t r = std::size_t(y) * w;
+        const float* up = y > 0 ? &row_max3_[r - w] : nullptr;
+        const float* down = y + 1 < h ? &row_max3_[r + w] : nullptr;
         for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            if (!filter_mask_[i]) continue;
-            float brightest = 0.0f;
-            for (int sy = std::max(0, y - 1); sy <= std::min(h - 1, y + 1); ++sy)
-                for (int sx = std::max(0, x - 1); sx <= std::min(w - 1, x + 1); ++sx)
-                    if (sx != x || sy != y)
-                        brightest = std::max(brightest, lum_[std::size_t(sy) * w + sx]);
+            const std::size_t i = r + x;
+            float brightest = row_max2_[i];
+            if (up) brightest = std::max(brightest, up[x]);
+            if (down) brightest = std::max(brightest, down[x]);
             const float limit = o_.firefly_ratio * brightest;
-            if (lum_[i] > limit && lum_[i] > 0.0f)
+            if (filter_mask_[i] && lum_[i] > limit) {
+                const float scale = limit / lum_[i];
                 for (int c = 0; c < 3; ++c)
-                    image.rgb[3 * i + c] *= limit / lum_[i];
+                    image.rgb[3 * i + c] *= scale;
+            }
         }
     });
 }

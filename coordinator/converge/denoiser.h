@@ -55,7 +55,7 @@ private:
     std::vector<uint8_t> filter_mask_, near_sharp_;
     std::vector<Rgb> albedo_;
     std::vector<Vec2> moments_;
-    std::vector<float> variance_, m1_, m2_, tmp_, lum_;
+    std::vector<float> variance_, m1_, m2_, tmp_, lum_, row_max3_, row_max2_;
 };
 
 // One frame alone (pathfarm-render --denoise): the spatial filter with a spatial variance.
