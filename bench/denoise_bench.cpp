@@ -16,7 +16,7 @@
 // pair's first; empty elsewhere) and writes `<out>/denoise_<path>_strip.png` (raw, converging,
 // denoised, reference at the strip frame). Arguments: path, scenes folder, cache folder, out
 // folder, frames (121), reference spp (512), strip frame (60), the wavelet's kernel radius (1)
-// and levels (5), the firefly clamp's ratio (2; 0: off).
+// and levels (5), the luminance edge's sigma (8).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -196,6 +196,13 @@ private:
                         relative_mse(*image, ref), ssim(*image, ref), unstable.c_str(), denoise_ms);
         }
         std::fflush(stdout);
+        if (k == a_.strip_frame) {
+            for (const auto& [method, image] : outputs)  // linear, for a closer look
+                if (Status st =
+                        write_image(a_.out + "/denoise_" + a_.path + "_" + method + ".pfm", *image);
+                    !st)
+                    fail(st.error().message);
+        }
         if (k == a_.strip_frame)
             write_strip(
                 a_.out + "/denoise_" + a_.path + "_strip.png",
@@ -219,17 +226,20 @@ int main(int argc, char** argv) {
     if (argc < 5) {
         std::fprintf(stderr,
                      "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
-                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [FIREFLY_RATIO]\n");
+                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L]\n");
         return 2;
     }
     init_logging("denoise-bench", "warn");
-    Args a{argv[1], argv[3], argv[4]};
+    Args a;
+    a.path = argv[1];
+    a.cache = argv[3];
+    a.out = argv[4];
     if (argc > 5) a.frames = std::atoi(argv[5]);
     if (argc > 6) a.ref_spp = std::atoi(argv[6]);
     if (argc > 7) a.strip_frame = std::atoi(argv[7]);
     if (argc > 8) a.denoise.atrous.radius = std::atoi(argv[8]);
     if (argc > 9) a.denoise.atrous.levels = std::atoi(argv[9]);
-    if (argc > 10) a.denoise.firefly_ratio = float(std::atof(argv[10]));
+    if (argc > 10) a.denoise.atrous.sigma_luminance = float(std::atof(argv[10]));
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

@@ -12,7 +12,9 @@ For raw frames, converging alone and the denoiser: relative MSE, SSIM (tonemappe
 the temporal instability (mean absolute frame-to-frame change of the error, over the
 reference's mean). Writes bench/results/denoise_bench.csv (per frame), denoise_summary.csv
 (path means and the denoised / converging ratios), denoise_bench.png and image strips
-(raw | converging | denoised | reference) under docs/.
+(raw | converging | denoised | reference) under docs/; then the denoiser's cost per frame alone
+on 2 threads at 320x180 and 640x360 (3x3 and 5x5 kernels alternated) in denoise_cost.csv. The
+cost while tracers run is the farm's `denoise_ms` (scripts/demo.sh's stats.csv).
 """
 import argparse
 import csv
@@ -29,7 +31,7 @@ METHODS = ["raw", "converging", "denoised"]
 
 def run_path(a, path, strips):
     cmd = [f"{a.build}/bench/pathfarm-denoise-bench", path, a.scenes, a.cache, strips, str(a.frames),
-           str(a.ref_spp), str(a.strip_frame)]
+           str(a.ref_spp), str(a.strip_frame), str(a.radius), str(a.levels), str(a.sigma_l)]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     return list(csv.DictReader(out.splitlines()))
 
@@ -51,6 +53,25 @@ def summarise(rows):
             summary.append([path, m, f"{v['relmse']:.5g}", f"{v['ssim']:.4f}", f"{v['instability']:.4f}",
                             f"{v['denoise_ms']:.2f}",
                             f"{v['relmse'] / means['converging']['relmse']:.3f}" if "converging" in means else ""])
+    return summary
+
+
+def cost(a):
+    """The denoiser alone on 2 threads (no tracers running), 3x3 and 5x5 kernels alternated."""
+    rows = []
+    for rnd in range(a.cost_rounds):
+        for radius in (1, 2):
+            out = subprocess.run([f"{a.build}/bench/pathfarm-denoise-filter-bench", "builtin:default", "20", "2",
+                                  str(radius), "320", "180", "640", "360"], check=True, capture_output=True,
+                                 text=True).stdout
+            rows += [dict(r, round=rnd) for r in csv.DictReader(out.splitlines())]
+    summary = []
+    for radius in ("1", "2"):
+        for size in (("320", "180"), ("640", "360")):
+            for mode in ("temporal", "single"):
+                sel = [float(r["median_ms"]) for r in rows
+                       if r["radius"] == radius and (r["width"], r["height"]) == size and r["mode"] == mode]
+                summary.append([radius, f"{size[0]}x{size[1]}", mode, f"{statistics.median(sel):.2f}", len(sel)])
     return summary
 
 
@@ -84,22 +105,34 @@ def main():
     p.add_argument("--ref-spp", type=int, default=512)
     p.add_argument("--strip-frame", type=int, default=60)
     p.add_argument("--paths", default=",".join(PATHS))
+    p.add_argument("--radius", type=int, default=1, help="the wavelet's kernel radius (2: SVGF's 5x5)")
+    p.add_argument("--levels", type=int, default=5)
+    p.add_argument("--sigma-l", type=float, default=8.0, help="the luminance edge's sigma (SVGF: 4)")
+    p.add_argument("--tag", default="", help="suffix of the output files (variants side by side)")
+    p.add_argument("--cost-rounds", type=int, default=3, help="rounds of the cost measurement (0: none)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     strips = os.path.join(a.cache, "strips")
     rows = []
     for path in a.paths.split(","):
         rows += run_path(a, path, strips)
-        shutil.copy(os.path.join(strips, f"denoise_{path}_strip.png"), os.path.join(a.docs, f"denoise_{path}.png"))
+        if not a.tag:
+            shutil.copy(os.path.join(strips, f"denoise_{path}_strip.png"), os.path.join(a.docs, f"denoise_{path}.png"))
     header = ["path", "frame", "method", "relmse", "ssim", "instability", "denoise_ms"]
-    write_csv(os.path.join(a.out, "denoise_bench.csv"), header, [[r[h] for h in header] for r in rows])
+    write_csv(os.path.join(a.out, f"denoise_bench{a.tag}.csv"), header, [[r[h] for h in header] for r in rows])
     summary = summarise(rows)
-    write_csv(os.path.join(a.out, "denoise_summary.csv"),
+    write_csv(os.path.join(a.out, f"denoise_summary{a.tag}.csv"),
               ["path", "method", "mean_relmse", "mean_ssim", "mean_instability", "median_denoise_ms",
                "relmse_over_converging"], summary)
     for s in summary:
         print(",".join(s))
-    plot(a.out)
+    if not a.tag:
+        plot(a.out)
+    if a.cost_rounds > 0:
+        costs = cost(a)
+        write_csv(os.path.join(a.out, "denoise_cost.csv"), ["radius", "size", "mode", "median_ms", "runs"], costs)
+        for c in costs:
+            print(",".join(map(str, c)))
 
 
 if __name__ == "__main__":

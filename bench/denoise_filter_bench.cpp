@@ -1,8 +1,9 @@
 // The denoiser's cost per frame (issue: real-time reconstruction): a 1-spp frame of a scene
 // with its first hits (Embree), then the denoiser run repeatedly on it as the farm runs it
 // (temporal: accumulation, variance, wavelet) and as pathfarm-render --denoise does (one frame
-// alone). Prints CSV rows `scene,width,height,mode,threads,median_ms,p95_ms,runs`. Arguments:
-// scene spec, runs, threads (0: all), then width x height pairs.
+// alone). Prints CSV rows `scene,width,height,mode,threads,radius,median_ms,p95_ms,runs`.
+// Arguments: scene spec, runs, threads (0: all), the wavelet's kernel radius (1: 3x3, 2: 5x5),
+// then width x height pairs.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -57,35 +58,40 @@ Frame render_frame(const SceneModel& loaded, int w, int h) {
     return f;
 }
 
-void run(const std::string& spec, const SceneModel& scene, int w, int h, int runs, int threads) {
+void run(const std::string& spec, const SceneModel& scene, int w, int h, int runs, int threads,
+         int radius) {
     const Frame f = render_frame(scene, w, h);
     std::vector<double> temporal, single;
-    coord::Denoiser denoiser;
+    coord::DenoiseOptions options;
+    options.atrous.radius = radius;
+    coord::Denoiser denoiser(options);
     for (int r = 0; r < runs; ++r) {
         FloatImage a = f.image, b = f.image;
         const Timer t1;
         denoiser.filter(a, f.view, true);
         temporal.push_back(t1.milliseconds());
         const Timer t2;
-        coord::denoise_frame(b, f.view.gbuffer, f.view.camera);
+        coord::denoise_frame(b, f.view.gbuffer, f.view.camera, options);
         single.push_back(t2.milliseconds());
     }
     for (const auto& [mode, ms] : {std::pair{"temporal", temporal}, std::pair{"single", single}})
-        std::printf("%s,%d,%d,%s,%d,%.3f,%.3f,%d\n", spec.c_str(), w, h, mode, threads,
+        std::printf("%s,%d,%d,%s,%d,%d,%.3f,%.3f,%d\n", spec.c_str(), w, h, mode, threads, radius,
                     percentile(ms, 0.5), percentile(ms, 0.95), runs);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 5 || (argc - 4) % 2 != 0) {
-        std::fprintf(stderr,
-                     "usage: pathfarm-denoise-filter-bench SCENE RUNS THREADS W H [W H ...]\n");
+    if (argc < 6 || (argc - 5) % 2 != 0) {
+        std::fprintf(
+            stderr,
+            "usage: pathfarm-denoise-filter-bench SCENE RUNS THREADS RADIUS W H [W H ...]\n");
         return 2;
     }
     init_logging("denoise-filter-bench", "warn");
     const std::string spec = argv[1];
     const int runs = std::max(1, std::atoi(argv[2])), threads = std::atoi(argv[3]);
+    const int radius = std::atoi(argv[4]) == 2 ? 2 : 1;
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                               threads > 0 ? std::size_t(threads) : std::size_t(1) << 16);
     auto scene = load_scene(spec);
@@ -93,8 +99,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "denoise_filter_bench: %s\n", scene.error().message.c_str());
         return 1;
     }
-    std::printf("scene,width,height,mode,threads,median_ms,p95_ms,runs\n");
-    for (int i = 4; i + 1 < argc; i += 2)
-        run(spec, *scene, std::atoi(argv[i]), std::atoi(argv[i + 1]), runs, threads);
+    std::printf("scene,width,height,mode,threads,radius,median_ms,p95_ms,runs\n");
+    for (int i = 5; i + 1 < argc; i += 2)
+        run(spec, *scene, std::atoi(argv[i]), std::atoi(argv[i + 1]), runs, threads, radius);
     return 0;
 }

@@ -212,7 +212,8 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
     });
 }
 
-void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance) {
+void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance, bool spatial) {
+    const float sigma_l = spatial ? o_.sigma_luminance_spatial : o_.sigma_luminance;
     parallel_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
@@ -224,7 +225,7 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance)
     });
     int from = 0;
     for (int l = 0; l < o_.levels; ++l, from = 1 - from)
-        level(1 << l, from);
+        level(1 << l, from, sigma_l);
     parallel_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
@@ -238,7 +239,7 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance)
 // One level from planes `from` to 1 - from, one task per row: the centre row's luminance
 // tolerance (from the 3x3 Gaussian of the variance, edges replicated: SVGF's, less noisy than
 // one pixel's), then the taps.
-void AtrousFilter::level(int step, int from) {
+void AtrousFilter::level(int step, int from, float sigma_l) {
     const std::vector<float>(&in)[3] = rgb_[from];
     const std::vector<float>& var = var_[from];
     const int w = width_, h = height_;
@@ -251,7 +252,7 @@ void AtrousFilter::level(int step, int from) {
                                 &var[row_start(std::min(h - 1, y + 1))]};
         float* inv_lum = &inv_lum_[k];
         const float *up = rows[0], *mid = rows[1], *down = rows[2];
-        const float sigma = o_.sigma_luminance;
+        const float sigma = sigma_l;
         // Vertical then horizontal weights; the row's two ends replicate their edge pixel.
         const auto column = [&](int x) { return 0.25f * (up[x] + down[x]) + 0.5f * mid[x]; };
         const auto tolerance = [&](float v) {

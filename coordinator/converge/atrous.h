@@ -16,9 +16,13 @@ namespace pathfarm::coord {
 
 struct AtrousOptions {
     int levels = 5;
-    int radius = 1;                // 1: 3x3 taps, 2: SVGF's 5x5 (docs/denoise.md)
-    float sigma_luminance = 4.0f;  // luminance edge: this many standard deviations
-    float sigma_plane = 1.0f;      // depth edge: distance off the tangent plane, in footprints
+    int radius = 1;  // 1: 3x3 taps, 2: SVGF's 5x5 (docs/denoise.md)
+    // Luminance edge: this many standard deviations (SVGF: 4). 8 where the variance is the
+    // frames' own (temporal), 4 where it is estimated from one frame's neighbourhood, which
+    // counts the picture's own detail as noise too (docs/denoise.md: both measured).
+    float sigma_luminance = 8.0f;
+    float sigma_luminance_spatial = 4.0f;
+    float sigma_plane = 1.0f;  // depth edge: distance off the tangent plane, in footprints
 };
 
 // The filter with its planes, kept from frame to frame (no allocation once sized). Planes are
@@ -32,12 +36,12 @@ public:
     // `filter[i]` set; the others keep their values and are no pixel's taps.
     void set_guide(const GBuffer& g, const Camera& camera, const std::vector<uint8_t>& filter);
     // Filters `image` (demodulated light, the guide's size) in place; `variance` is each
-    // pixel's luminance variance.
-    void filter(FloatImage& image, const std::vector<float>& variance);
+    // pixel's luminance variance, `spatial` whether it was estimated from one frame alone.
+    void filter(FloatImage& image, const std::vector<float>& variance, bool spatial);
     const AtrousOptions& options() const { return o_; }
 
 private:
-    void level(int step, int from);
+    void level(int step, int from, float sigma_l);
 
     AtrousOptions o_;
     int width_ = 0, height_ = 0, pad_ = 0, stride_ = 0;

@@ -110,54 +110,6 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
     });
 }
 
-// A firefly is a single pixel far brighter than everything around it: spread by the wavelet
-// it becomes a blob. Each filtered pixel's light is scaled down to firefly_ratio times the
-// brightest of its eight neighbours' luminance (a highlight or an edge has bright neighbours
-// and is left alone). The image given to the wavelet only: the accumulator's history keeps
-// every sample, so a still view still converges to the unclamped mean.
-void Denoiser::clamp_fireflies(FloatImage& image) {
-    const int w = image.width, h = image.height;
-    const std::size_t n = std::size_t(w) * std::size_t(h);
-    lum_.resize(n);
-    row_max3_.resize(n);
-    row_max2_.resize(n);
-    // Per row: luminance, then the maximum over (x - 1, x, x + 1) and over (x - 1, x + 1);
-    // the eight neighbours' maximum is then max(max3 above, max3 below, max2 beside).
-    parallel_rows(h, [&](int y) {
-        const std::size_t r = std::size_t(y) * w;
-        const float* rgb = &image.rgb[3 * r];
-        float* l = &lum_[r];
-        for (int x = 0; x < w; ++x)
-            l[x] = luminance(Rgb(rgb[3 * x], rgb[3 * x + 1], rgb[3 * x + 2]));
-        float *m3 = &row_max3_[r], *m2 = &row_max2_[r];
-        for (int x = 1; x + 1 < w; ++x) {
-            m2[x] = std::max(l[x - 1], l[x + 1]);
-            m3[x] = std::max(m2[x], l[x]);
-        }
-        m2[0] = w > 1 ? l[1] : 0.0f;
-        m3[0] = std::max(l[0], m2[0]);
-        m2[w - 1] = w > 1 ? l[w - 2] : 0.0f;
-        m3[w - 1] = std::max(l[w - 1], m2[w - 1]);
-    });
-    parallel_rows(h, [&](int y) {
-        const std::size_t r = std::size_t(y) * w;
-        const float* up = y > 0 ? &row_max3_[r - w] : nullptr;
-        const float* down = y + 1 < h ? &row_max3_[r + w] : nullptr;
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = r + x;
-            float brightest = row_max2_[i];
-            if (up) brightest = std::max(brightest, up[x]);
-            if (down) brightest = std::max(brightest, down[x]);
-            const float limit = o_.firefly_ratio * brightest;
-            if (filter_mask_[i] && lum_[i] > limit) {
-                const float scale = limit / lum_[i];
-                for (int c = 0; c < 3; ++c)
-                    image.rgb[3 * i + c] *= scale;
-            }
-        }
-    });
-}
-
 DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) {
     const GBuffer& g = view.gbuffer;
     const int w = image.width, h = image.height;
@@ -188,8 +140,7 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
         estimate_variance(moments_, nullptr, w, h);
         stats.converge = {1.0, 0.0, 1.0};
     }
-    if (o_.firefly_ratio > 0.0f) clamp_fireflies(image);
-    atrous_.filter(image, variance_);
+    atrous_.filter(image, variance_, !temporal);
     parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
             for (int c = 0; c < 3; ++c)

@@ -19,9 +19,6 @@ struct DenoiseOptions {
     AtrousOptions atrous;
     int variance_frames = 4;     // shorter history: the variance is estimated spatially
     float albedo_floor = 0.02f;  // demodulation divides by max(base colour, this)
-    // Isolated outliers (fireflies) of the filter's input are clamped to this many times the
-    // brightest of their eight neighbours; 0: off. Display only: the history keeps them.
-    float firefly_ratio = 2.0f;
 };
 
 struct DenoiseStats {
@@ -45,7 +42,6 @@ private:
     double prepare(const GBuffer& g, const Camera& camera);
     void estimate_variance(const std::vector<Vec2>& moments, const std::vector<float>* frames,
                            int w, int h);
-    void clamp_fireflies(FloatImage& image);
 
     DenoiseOptions o_;
     TemporalAccumulator accumulator_;
@@ -55,7 +51,7 @@ private:
     std::vector<uint8_t> filter_mask_, near_sharp_;
     std::vector<Rgb> albedo_;
     std::vector<Vec2> moments_;
-    std::vector<float> variance_, m1_, m2_, tmp_, lum_, row_max3_, row_max2_;
+    std::vector<float> variance_, m1_, m2_, tmp_;
 };
 
 // One frame alone (pathfarm-render --denoise): the spatial filter with a spatial variance.

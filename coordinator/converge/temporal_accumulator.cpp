@@ -177,8 +177,14 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     if (motion.camera_moved || r.object_moves) {
                         Rgb mean, sigma;
                         neighbourhood(image, x, y, mean, sigma);
-                        history = glm::clamp(history, mean - o_.clamp_sigmas * sigma,
-                                             mean + o_.clamp_sigmas * sigma);
+                        // Widened by one frame's own noise (from the history's moments): a
+                        // neighbourhood of sparse samples (mostly dark, a few bright) says
+                        // little about the mean, and clamping to it darkened such scenes.
+                        const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
+                        const Rgb bound =
+                            o_.clamp_sigmas *
+                            (sigma + Rgb(std::sqrt(std::max(0.0f, mh.y - mh.x * mh.x))));
+                        history = glm::clamp(history, mean - bound, mean + bound);
                         const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
                         k = std::min(k, 1.0f / floor);
                     }
