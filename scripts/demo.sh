@@ -8,7 +8,7 @@
 # Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10),
 # BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them),
 # OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
-# bench/demo_ab.py).
+# bench/demo_ab.py), COORDINATOR_ARGS (more coordinator arguments, e.g. "--denoise off").
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if [ -z "${BIN:-}" ]; then
@@ -30,7 +30,7 @@ trap cleanup EXIT
   --width "$width" --height "$height" --spp "$spp" --frames "$frames" --min-tracers 2 \
   --target-fps "$target" --fps "$target" \
   --stats-csv "$out/stats.csv" --tracer-stats-csv "$out/tracers.csv" --stages-csv "$out/stages.csv" \
-  > "$out/coordinator.log" 2>&1 &
+  ${COORDINATOR_ARGS:-} > "$out/coordinator.log" 2>&1 &
 coordinator=$!
 for _ in $(seq 100); do grep -q "tracer_port=" "$out/coordinator.log" && break; sleep 0.1; done
 tracer_port=$(grep -o "tracer_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
