@@ -188,8 +188,10 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
     const Mat4 world_to_camera = glm::inverse(camera.camera_to_world);
     const float tan_half = std::tan(0.5f * camera.yfov_radians);
     pitch_ = 2.0f * tan_half / float(height_);
-    const float aspect = float(width_) / float(height_);
+    const float film_x = 2.0f * tan_half * float(width_) / float(height_) / float(width_);
+    const float inv_sigma_pitch = 1.0f / (o_.sigma_plane * pitch_);
     parallel_rows(height_, [&](int y) {
+        const float fy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half;
         for (int x = 0; x < width_; ++x) {
             const std::size_t i = std::size_t(y) * width_ + x;
             const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
@@ -198,8 +200,7 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
                 continue;
             }
             const Vec3 n = glm::normalize(transform_vector(world_to_camera, g.normal[i]));
-            const Vec3 film((2.0f * (float(x) + 0.5f) / float(width_) - 1.0f) * tan_half * aspect,
-                            (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half, -1.0f);
+            const Vec3 film((float(x) + 0.5f) * film_x - 0.5f * float(width_) * film_x, fy, -1.0f);
             const float z = g.distance[i] / glm::length(film);
             nx_[k] = n.x;
             ny_[k] = n.y;
@@ -207,7 +208,7 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
             z_[k] = z;
             slope_[k] = glm::dot(n, film);
             offset_[k] = z * slope_[k];
-            inv_plane_[k] = 1.0f / (o_.sigma_plane * g.distance[i] * pitch_);
+            inv_plane_[k] = inv_sigma_pitch / g.distance[i];
         }
     });
 }

@@ -95,10 +95,14 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
             m2_[i] = moments[i].y;
         }
     });
-    for (std::vector<float>* m : {&m1_, &m2_}) {
-        blur3(*m, tmp_, variance_, w, h);  // variance_ as scratch
-        blur3(variance_, tmp_, *m, w, h);
-    }
+    const bool any_short = !frames || std::any_of(frames->begin(), frames->end(), [&](float k) {
+        return k < float(o_.variance_frames);
+    });
+    if (any_short)  // a still view with history everywhere needs no spatial estimate
+        for (std::vector<float>* m : {&m1_, &m2_}) {
+            blur3(*m, tmp_, variance_, w, h);  // variance_ as scratch
+            blur3(variance_, tmp_, *m, w, h);
+        }
     parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
             const float k = frames ? (*frames)[i] : 1.0f;
