@@ -49,10 +49,8 @@ Frame render_frame(const SceneModel& loaded, int w, int h) {
     const tracer::RenderJob job{
         FrameSpec{w, h, 1, 3, 1, 0, camera}, IntegratorSettings{}, 0, h, {}, hits.data()};
     if (!(*backend)->render_rows(job, f.image.rgb.data())) std::exit(1);
-    for (FirstHit& hit : hits)
-        if (hit.hit()) ++hit.instance;  // the G-buffer's ids count from 1
     f.view.camera = camera;
-    f.view.gbuffer = coord::gbuffer_from_first_hits(hits, w, h, camera, w, h);
+    f.view.gbuffer = coord::gbuffer_from_backend_hits(std::move(hits), camera, w, h);
     for (std::size_t i = 0; i < scene.instances.size(); ++i)
         f.view.instances[uint32_t(i + 1)] = scene.instances[i].transform;
     return f;

@@ -39,7 +39,7 @@ void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<flo
 // have seen the emitter or the mirror too: an emitter's edge can be a hundred times brighter
 // than the surface, so their light is no smooth irradiance to spread either). The sharp mask
 // is dilated by a row pass and a column pass.
-double Denoiser::prepare(const GBuffer& g, const Camera& camera) {
+void Denoiser::prepare(const GBuffer& g, const Camera& camera) {
     const int w = g.width, h = g.height;
     const std::size_t n = g.distance.size();
     filter_mask_.resize(n);
@@ -51,26 +51,18 @@ double Denoiser::prepare(const GBuffer& g, const Camera& camera) {
         for (int x = 0; x < w; ++x)
             dilated[x] = sharp[std::max(0, x - 1)] | sharp[x] | sharp[std::min(w - 1, x + 1)];
     });
-    std::vector<int> filtered_per_row(std::size_t(h), 0);
     parallel_rows(h, [&](int y) {
         const uint8_t* up = &near_sharp_[std::size_t(std::max(0, y - 1)) * w];
         const uint8_t* mid = &near_sharp_[std::size_t(y) * w];
         const uint8_t* down = &near_sharp_[std::size_t(std::min(h - 1, y + 1)) * w];
-        int count = 0;
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y) * w + x;
             const bool hit = g.hit(i);
             filter_mask_[i] = hit && !(up[x] | mid[x] | down[x]);
             albedo_[i] = hit ? glm::max(g.albedo[i], Rgb(o_.albedo_floor)) : Rgb(1.0f);
-            count += filter_mask_[i];
         }
-        filtered_per_row[std::size_t(y)] = count;
     });
     atrous_.set_guide(g, camera, filter_mask_);
-    double filtered = 0.0;
-    for (int c : filtered_per_row)
-        filtered += c;
-    return n ? filtered / double(n) : 0.0;
 }
 
 // Per pixel: the variance of its accumulated light's luminance. Where `variance_frames` or more
@@ -114,15 +106,15 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
     });
 }
 
-DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) {
+ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) {
     const GBuffer& g = view.gbuffer;
     const int w = image.width, h = image.height;
     if (g.width != w || g.height != h) {
         output_ = image;  // no G-buffer for this frame: nothing to stop the filter at edges
         return {};
     }
-    DenoiseStats stats;
-    stats.filtered = prepare(g, view.camera);
+    ConvergeStats stats{1.0, 0.0, 1.0};
+    prepare(g, view.camera);
     parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
             for (int c = 0; c < 3; ++c)
@@ -130,7 +122,7 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
     });
     if (temporal) {
         // The accumulator keeps the view, G-buffer and all, for the next frame's reprojection.
-        stats.converge = accumulator_.blend(image, std::move(view));
+        stats = accumulator_.blend(image, std::move(view));
         estimate_variance(accumulator_.moments(), &accumulator_.history_frames(), w, h);
     } else {
         moments_.resize(std::size_t(w) * std::size_t(h));
@@ -142,7 +134,6 @@ DenoiseStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) 
             }
         });
         estimate_variance(moments_, nullptr, w, h);
-        stats.converge = {1.0, 0.0, 1.0};
     }
     atrous_.filter(image, variance_, !temporal);
     parallel_rows(h, [&](int y) {

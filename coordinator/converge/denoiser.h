@@ -21,25 +21,21 @@ struct DenoiseOptions {
     float albedo_floor = 0.02f;  // demodulation divides by max(base colour, this)
 };
 
-struct DenoiseStats {
-    ConvergeStats converge;  // of the temporal accumulation ({1, 0, 1} for a frame alone)
-    double filtered = 0.0;   // fraction of pixels the wavelet filtered
-};
-
 class Denoiser {
 public:
     explicit Denoiser(DenoiseOptions options = {}, ConvergeOptions converge = {})
         : o_(options), accumulator_(converge), atrous_(options.atrous) {}
 
     // Denoises `image` (the frame at the G-buffer's resolution) in place. `temporal`: with
-    // the history of earlier frames (the farm converging); otherwise this frame alone.
-    DenoiseStats filter(FloatImage& image, FrameView view, bool temporal);
+    // the history of earlier frames (the farm converging); otherwise this frame alone. Returns
+    // the temporal accumulation's statistics ({1, 0, 1} for a frame alone).
+    ConvergeStats filter(FloatImage& image, FrameView view, bool temporal);
     void reset() { accumulator_.reset(); }
     float min_history_frames() const { return accumulator_.min_history_frames(); }
     const FloatImage& output() const { return output_; }  // the last denoised image
 
 private:
-    double prepare(const GBuffer& g, const Camera& camera);
+    void prepare(const GBuffer& g, const Camera& camera);
     void estimate_variance(const std::vector<Vec2>& moments, const std::vector<float>* frames,
                            int w, int h);
 

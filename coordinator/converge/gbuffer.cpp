@@ -44,6 +44,13 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
     return g;
 }
 
+GBuffer gbuffer_from_backend_hits(std::vector<FirstHit> hits, const Camera& camera, int width,
+                                  int height) {
+    for (FirstHit& h : hits)
+        if (h.hit()) ++h.instance;
+    return gbuffer_from_first_hits(hits, width, height, camera, width, height);
+}
+
 CameraProjector::CameraProjector(const Camera& camera, int width, int height)
     : world_to_camera_(glm::inverse(camera.camera_to_world)),
       eye_(transform_point(camera.camera_to_world, Vec3(0.0f))),

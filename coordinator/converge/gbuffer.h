@@ -32,6 +32,12 @@ struct GBuffer {
 GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_width, int hits_height,
                                 const Camera& camera, int width, int height);
 
+// The same from a backend's own first hits at the display size, whose instances are SceneModel
+// indices (pathfarm-render, benchmarks) rather than the scene graph's ids: index i becomes id
+// i + 1, since 0 is the G-buffer's miss.
+GBuffer gbuffer_from_backend_hits(std::vector<FirstHit> hits, const Camera& camera, int width,
+                                  int height);
+
 // Maps world points and directions to continuous pixel coordinates (pixel centres at +0.5):
 // the inverse of generate_camera_ray. False when behind the camera.
 class CameraProjector {

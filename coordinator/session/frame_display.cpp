@@ -77,7 +77,7 @@ void FrameDisplay::show(DisplayJob& job) {
                                                    job.view.camera, o_.width, o_.height);
         if (o_.denoise) {
             const Timer denoise_timer;
-            converged = denoiser_.filter(image, std::move(job.view), o_.converge).converge;
+            converged = denoiser_.filter(image, std::move(job.view), o_.converge);
             denoise_ms = denoise_timer.milliseconds();
         } else {
             converged = accumulator_.blend(image, std::move(job.view));

@@ -160,14 +160,11 @@ Status compare_with_reference(const std::string& path, const FloatImage& image,
     return {};
 }
 
-// The denoiser's spatial filter, its G-buffer made from the render's first hits. Instance ids
-// are SceneModel indices here; the G-buffer counts from 1 (0 is its miss).
+// The denoiser's spatial filter, its G-buffer made from the render's first hits.
 void denoise(FloatImage& image, std::vector<FirstHit> hits, const Camera& camera) {
-    for (FirstHit& h : hits)
-        if (h.hit()) ++h.instance;
-    const coord::GBuffer g = coord::gbuffer_from_first_hits(hits, image.width, image.height, camera,
-                                                            image.width, image.height);
-    coord::denoise_frame(image, g, camera);
+    coord::denoise_frame(
+        image, coord::gbuffer_from_backend_hits(std::move(hits), camera, image.width, image.height),
+        camera);
 }
 
 }  // namespace

@@ -40,16 +40,13 @@ struct Walk {
                                     {},
                                     hits ? hits->data() : nullptr};
         EXPECT_TRUE(backend.render_rows(job, image.rgb.data()).ok());
-        if (hits)
-            for (FirstHit& h : *hits)
-                if (h.hit()) ++h.instance;  // the G-buffer counts instances from 1
         return image;
     }
 
     FrameView view(const Camera& camera, const std::vector<FirstHit>& hits) const {
         FrameView v;
         v.camera = camera;
-        v.gbuffer = gbuffer_from_first_hits(hits, kW, kH, camera, kW, kH);
+        v.gbuffer = gbuffer_from_backend_hits(hits, camera, kW, kH);
         for (std::size_t i = 0; i < scene.instances.size(); ++i)
             v.instances[uint32_t(i + 1)] = scene.instances[i].transform;
         return v;
