@@ -1,4 +1,4 @@
-// Power-proportional emissive-triangle selection and sun/sky sampling.
+// Emissive-triangle selection (by power, or through the light tree) and sun/sky sampling.
 #include "common/render/light_sampler.h"
 
 #include <algorithm>
@@ -25,11 +25,13 @@ Rgb mean_emission_texel(const Image* image) {
 
 }  // namespace
 
-LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded)
-    : shading_(shading) {
+LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded,
+                           LightSelection selection)
+    : shading_(shading), selection_(selection) {
     const SceneModel& scene = shading.model();
     instance_offset_.assign(scene.instances.size(), -1);
     std::vector<double> power;
+    std::vector<LightBounds> bounds;
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
         const Material& mat = scene.materials[mesh.material];
@@ -48,6 +50,9 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
             triangles_.push_back(
                 {i, t, mesh.material, p[0], p[1] - p[0], p[2] - p[0], probe.ng, area});
             power.push_back(double(luminance(mean)) * area * sides);
+            if (selection == LightSelection::tree)
+                bounds.push_back(triangle_light_bounds(p[0], p[1], p[2], probe.ng,
+                                                       float(power.back()), mat.double_sided));
         }
     }
     double total = 0.0;
@@ -60,13 +65,20 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
         cdf_[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(power.size());
     }
     if (!cdf_.empty()) cdf_.back() = 1.0f;
+    if (selection == LightSelection::tree) tree_ = LightTree(bounds);
     if (uses_sun_sky(scene)) {
         sun_sky_ = std::make_unique<SunSky>(scene.environment);
         p_environment_ = triangles_.empty() ? 1.0f : 0.5f;
     }
 }
 
-std::optional<LightSample> LightSampler::sample(const Vec3& from, float u_select, Vec2 u) const {
+float LightSampler::selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const {
+    if (selection_ == LightSelection::tree) return tree_.pmf(from, normal, uint32_t(k));
+    return cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
+}
+
+std::optional<LightSample> LightSampler::sample(const Vec3& from, const Vec3& normal,
+                                                float u_select, Vec2 u) const {
     if (empty()) return std::nullopt;
     LightSample ls;
     if (u_select < p_environment_) {
@@ -79,14 +91,23 @@ std::optional<LightSample> LightSampler::sample(const Vec3& from, float u_select
         return ls;
     }
     const float us = (u_select - p_environment_) / (1.0f - p_environment_);
-    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), us);
-    const std::size_t k = std::min<std::size_t>(it - cdf_.begin(), cdf_.size() - 1);
+    std::size_t k;
+    float pmf;
+    if (selection_ == LightSelection::tree) {
+        const auto choice = tree_.sample(from, normal, us);
+        if (!choice) return std::nullopt;
+        k = choice->emitter;
+        pmf = choice->pmf;
+    } else {
+        const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), us);
+        k = std::min<std::size_t>(it - cdf_.begin(), cdf_.size() - 1);
+        pmf = selection_pmf(k, from, normal);
+    }
     const EmissiveTriangle& tri = triangles_[k];
     if (tri.area <= 0.0f) return std::nullopt;
     const Vec2 b = sample_uniform_triangle(u);
     ls.p = tri.p0 + b.x * tri.e1 + b.y * tri.e2;
     ls.n = tri.n;
-    const float pmf = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
     ls.pdf = (1.0f - p_environment_) * pmf / tri.area;
     const Material& mat = shading_.model().materials[tri.material];
     if (mat.emissive_texture.valid() || mat.alpha_tested()) {  // needs the UV
@@ -103,10 +124,11 @@ std::optional<LightSample> LightSampler::sample(const Vec3& from, float u_select
     return ls;
 }
 
-float LightSampler::triangle_pdf_area(uint32_t instance, uint32_t prim) const {
+float LightSampler::triangle_pdf_area(uint32_t instance, uint32_t prim, const Vec3& from,
+                                      const Vec3& normal) const {
     if (instance >= instance_offset_.size() || instance_offset_[instance] < 0) return 0.0f;
     const std::size_t k = std::size_t(instance_offset_[instance]) + prim;
-    const float pmf = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
+    const float pmf = selection_pmf(k, from, normal);
     return triangles_[k].area > 0.0f ? (1.0f - p_environment_) * pmf / triangles_[k].area : 0.0f;
 }
 

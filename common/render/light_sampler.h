@@ -1,12 +1,14 @@
-// Chooses a light for next-event estimation: every emissive triangle is an area light picked
-// in proportion to its power (scenes may hold thousands), plus the sun/sky when it lights the
-// scene. Densities are returned per unit area for triangles and per solid angle for the sky.
+// Chooses a light for next-event estimation: every emissive triangle is an area light (scenes
+// may hold thousands), picked either in proportion to its power or through a light tree by its
+// importance to the shading point (light_tree.h), plus the sun/sky when it lights the scene.
+// Densities are returned per unit area for triangles and per solid angle for the sky.
 #pragma once
 
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "common/render/light_tree.h"
 #include "common/render/shading_scene.h"
 #include "common/render/sun_sky.h"
 
@@ -20,18 +22,28 @@ struct LightSample {
     bool environment = false;
 };
 
+// How an emissive triangle is chosen (--light-sampler tree|power).
+enum class LightSelection : uint8_t { power, tree };
+inline const char* light_selection_name(LightSelection s) {
+    return s == LightSelection::tree ? "tree" : "power";
+}
+
 class LightSampler {
 public:
     // Instances flagged in `excluded` (indexed like SceneModel::instances) are not sampled:
     // emitters that cannot contribute (SealedEmitters).
-    explicit LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded = {});
+    explicit LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded = {},
+                          LightSelection selection = LightSelection::power);
 
     bool empty() const { return triangles_.empty() && !sun_sky_; }
-    // Samples a light as seen from receiver point `from`. u_select chooses, u positions.
-    std::optional<LightSample> sample(const Vec3& from, float u_select, Vec2 u) const;
-    // Selection probability times 1/area for the emissive triangle (instance, prim); 0 if it
-    // is not a light.
-    float triangle_pdf_area(uint32_t instance, uint32_t prim) const;
+    // Samples a light as seen from a receiver at `from` with geometric normal `normal` (zero:
+    // none, e.g. a medium). u_select chooses, u positions.
+    std::optional<LightSample> sample(const Vec3& from, const Vec3& normal, float u_select,
+                                      Vec2 u) const;
+    // Selection probability times 1/area for the emissive triangle (instance, prim) as
+    // sample() at (from, normal) chooses it; 0 if it is not a light.
+    float triangle_pdf_area(uint32_t instance, uint32_t prim, const Vec3& from,
+                            const Vec3& normal) const;
     // Selection probability times the sky's solid-angle density for direction w.
     float environment_pdf(const Vec3& w) const;
     Rgb environment_radiance(const Vec3& w) const;
@@ -47,13 +59,20 @@ public:
     };
     const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
     const std::vector<float>& cdf() const { return cdf_; }  // normalised cumulative power
+    LightSelection selection() const { return selection_; }
+    const LightTree& tree() const { return tree_; }  // empty unless selection() is tree
     float environment_probability() const { return p_environment_; }
     const SunSky* sun_sky() const { return sun_sky_.get(); }
     // Index of the instance's first triangle in triangles(), or -1 if it emits nothing.
     int64_t first_light_of(uint32_t instance) const { return instance_offset_[instance]; }
 
 private:
+    // The selection probability of emitter k for a receiver at (from, normal).
+    float selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const;
+
     const ShadingScene& shading_;
+    LightSelection selection_;
+    LightTree tree_;
     std::vector<EmissiveTriangle> triangles_;
     std::vector<float> cdf_;                // cumulative power, normalised to 1
     std::vector<int64_t> instance_offset_;  // first light of each instance, or -1

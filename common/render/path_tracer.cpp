@@ -56,8 +56,8 @@ PathTracer::PathTracer(const ShadingScene& shading, const LightSampler& lights,
 }
 
 float PathTracer::light_pdf_solid_angle(const Hit& hit, const Vec3& origin,
-                                        const SurfacePoint& sp) const {
-    const float pdf_area = lights_.triangle_pdf_area(hit.instance, hit.prim);
+                                        const Vec3& origin_normal, const SurfacePoint& sp) const {
+    const float pdf_area = lights_.triangle_pdf_area(hit.instance, hit.prim, origin, origin_normal);
     if (pdf_area <= 0.0f) return 0.0f;
     const Vec3 d = sp.p - origin;
     const float dist2 = glm::dot(d, d);
@@ -72,7 +72,7 @@ Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Fr
     const Vec2 u_light = sampler.next_2d();
     if (settings_.strategy == LightStrategy::bsdf_only || lights_.empty() || !bsdf.has_non_delta())
         return Rgb(0.0f);
-    const auto ls = lights_.sample(sp.p, u_select.x, u_light);
+    const auto ls = lights_.sample(sp.p, sp.ng, u_select.x, u_light);
     if (!ls || ls->pdf <= 0.0f || max_component(ls->radiance) <= 0.0f) return Rgb(0.0f);
 
     Vec3 wi;
@@ -126,6 +126,7 @@ struct PathTracer::PathState {
     bool delta_bounce = true;  // the camera and delta lobes: no MIS partner for emitters
     float bsdf_pdf = 0.0f;
     Vec3 last_point{0.0f};
+    Vec3 last_normal{0.0f};  // its geometric normal: the light tree's receiver (light_tree.h)
     // Emission found by BSDF sampling counts unless only light sampling estimates it.
     bool counts_emission(LightStrategy s) const {
         return delta_bounce || s != LightStrategy::light_only;
@@ -148,7 +149,8 @@ Rgb PathTracer::emission_at(const PathState& s, const Hit& hit, const SurfacePoi
     if (!(max_component(le) > 0.0f)) return Rgb(0.0f);
     const float w = s.delta_bounce || settings_.strategy == LightStrategy::bsdf_only
                         ? 1.0f
-                        : power_heuristic(s.bsdf_pdf, light_pdf_solid_angle(hit, s.last_point, sp));
+                        : power_heuristic(s.bsdf_pdf, light_pdf_solid_angle(hit, s.last_point,
+                                                                            s.last_normal, sp));
     return s.beta * le * w;
 }
 
@@ -184,6 +186,7 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
         s.beta /= survive;
     }
     s.last_point = sp.p;
+    s.last_normal = sp.ng;
     ray.o = offset_ray_origin(sp.p, ng_out);
     ray.d = wi;
     ray.tmax = kInfinity;

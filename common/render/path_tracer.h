@@ -31,6 +31,8 @@ struct IntegratorSettings {
     // Do not sample emitters a closed opaque surface separates from the camera
     // (SealedEmitters); false samples every emitter, for measuring what culling saves.
     bool cull_sealed_lights = true;
+    // How next-event estimation chooses an emissive triangle (docs/rendering.md, "Many lights").
+    LightSelection light_selection = LightSelection::power;
 };
 
 // What a scene needs of the path-tracing loop. A loop instantiated without a feature leaves
@@ -82,7 +84,8 @@ private:
                       const Vec3& shading_ng, const Vec3& wo_local, const Rgb& sigma_a,
                       PixelSampler& sampler, SampleCounters& counters) const;
     // Density (solid angle, from origin) of light sampling choosing the emitter point sp.
-    float light_pdf_solid_angle(const Hit& hit, const Vec3& origin, const SurfacePoint& sp) const;
+    float light_pdf_solid_angle(const Hit& hit, const Vec3& origin, const Vec3& origin_normal,
+                                const SurfacePoint& sp) const;
     struct PathState;
     Rgb escaped(const PathState& s, const Vec3& d) const;
     Rgb emission_at(const PathState& s, const Hit& hit, const SurfacePoint& sp,

@@ -16,7 +16,7 @@ pathfarm::Vec3 to_vec3(const std::vector<float>& v) { return {v[0], v[1], v[2]};
 // Flags parsed into strings and vectors first, converted by finish_options.
 struct CommandLine {
     pathfarm::tools::RenderToolOptions o;
-    std::string strategy = "mis", kernel = "specialised";
+    std::string strategy = "mis", kernel = "specialised", light_sampler;
     std::vector<float> look_from, look_at, up;
     bool no_light_culling = false;
     double time = 0.0;
@@ -73,6 +73,12 @@ void add_integrator_options(CLI::App& app, CommandLine& c) {
                    "Path-tracing loop: specialised (for the scene's features) or generic")
         ->capture_default_str()
         ->check(CLI::IsMember({"specialised", "generic"}));
+    c.light_sampler = pathfarm::light_selection_name(c.o.light_selection);
+    app.add_option("--light-sampler", c.light_sampler,
+                   "Emitter choice for next-event estimation: tree (by importance to the shading "
+                   "point) or power")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"tree", "power"}));
     app.add_flag("--no-light-culling", c.no_light_culling,
                  "Also sample emitters that a closed surface separates from the camera");
     app.add_flag("--denoise", c.o.denoise,
@@ -89,6 +95,8 @@ pathfarm::tools::RenderToolOptions finish_options(CommandLine& c) {
     o.strategy = strategies.at(c.strategy);
     o.specialise = c.kernel == "specialised";
     o.cull_sealed_lights = !c.no_light_culling;
+    o.light_selection = c.light_sampler == "tree" ? pathfarm::LightSelection::tree
+                                                  : pathfarm::LightSelection::power;
     if (c.time_option->count() > 0) o.time = c.time;
     if (!c.look_from.empty()) o.look_from = to_vec3(c.look_from);
     if (!c.look_at.empty()) o.look_at = to_vec3(c.look_at);

@@ -34,6 +34,7 @@ struct RenderToolOptions {
     LightStrategy strategy = LightStrategy::mis;
     bool specialise = true;          // the path-tracing loop specialised for the scene's features
     bool cull_sealed_lights = true;  // IntegratorSettings::cull_sealed_lights
+    LightSelection light_selection = IntegratorSettings{}.light_selection;
     float exposure = 1.0f;
     // The denoiser's spatial filter on the finished image (coordinator/converge/denoiser.h),
     // guided by the first hits of the pixel centres.

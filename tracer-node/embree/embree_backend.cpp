@@ -82,9 +82,12 @@ public:
     // sampler; it is rebuilt only when that set changes.
     void update_lights(const RenderJob& job) {
         const Vec3 eye = transform_point(job.frame.camera.camera_to_world, Vec3(0.0f));
-        if (!culling_.update(eye, job.integrator.cull_sealed_lights) && lights_) return;
+        const bool culled_changed = culling_.update(eye, job.integrator.cull_sealed_lights);
+        if (!culled_changed && lights_ && lights_->selection() == job.integrator.light_selection)
+            return;
         const std::vector<bool>& excluded = culling_.excluded();
-        lights_ = std::make_unique<LightSampler>(*shading_, excluded);
+        lights_ =
+            std::make_unique<LightSampler>(*shading_, excluded, job.integrator.light_selection);
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",

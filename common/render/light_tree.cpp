@@ -1,0 +1,220 @@
+// Building, refitting and descending the light tree (light_tree.h).
+#include "common/render/light_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace pathfarm {
+namespace {
+
+constexpr int kBuckets = 12;
+// From this depth on, nodes split at the median: at most 24 more levels for 16 M emitters,
+// so every path fits a 64-bit trail.
+constexpr int kBalancedFromDepth = 40;
+
+// The surface-area-orientation heuristic (Conty Estevez & Kulla 2018, eq. 3, with theta_e =
+// pi/2): power times the solid angle the group may light (M_omega) times its box's area. `kr`
+// penalises splitting a long box across its short side.
+double orientation_area_cost(const LightBounds& b, float kr) {
+    if (!(b.power > 0.0f)) return 0.0;
+    const double cos_o = std::clamp(double(b.cos_theta_o), -1.0, 1.0);
+    const double theta_o = std::acos(cos_o), sin_o = std::sin(theta_o);
+    const double pi = 3.14159265358979323846;
+    const double theta_w = std::min(theta_o + pi / 2, pi);
+    const double m_omega =
+        2 * pi * (1 - cos_o) +
+        pi / 2 *
+            (2 * theta_w * sin_o - std::cos(theta_o - 2 * theta_w) - 2 * theta_o * sin_o + cos_o);
+    const Vec3 e = b.box.empty() ? Vec3(0.0f) : b.box.extent();
+    const double area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
+    return double(b.power) * m_omega * double(kr) * area;
+}
+
+int bucket_of(float c, float lower, float extent) {
+    return std::min(kBuckets - 1, int(float(kBuckets) * (c - lower) / extent));
+}
+
+// Where to split `ids`: the cheapest bucket boundary by the heuristic over the three axes, or
+// the median along the widest axis when no boundary separates anything (or deep down).
+std::size_t split_ids(std::span<uint32_t> ids, std::span<const LightBounds> em, int depth) {
+    Bounds3f centroids, boxes;
+    for (uint32_t id : ids) {
+        centroids.extend(em[id].box.center());
+        boxes.extend(em[id].box);
+    }
+    const Vec3 ce = centroids.extent(), be = boxes.extent();
+    const float widest = max_component(be);
+    double best = INFINITY;
+    int best_dim = -1, best_bucket = 0;
+    for (int dim = 0; dim < 3 && depth < kBalancedFromDepth; ++dim) {
+        if (!(ce[dim] > 0.0f)) continue;
+        LightBounds bucket[kBuckets];
+        int count[kBuckets] = {};
+        for (uint32_t id : ids) {
+            const int k = bucket_of(em[id].box.center()[dim], centroids.lower[dim], ce[dim]);
+            ++count[k];
+            bucket[k] = union_bounds(bucket[k], em[id]);
+        }
+        const float kr = be[dim] > 0.0f ? widest / be[dim] : 1.0f;
+        LightBounds above[kBuckets];
+        above[kBuckets - 1] = bucket[kBuckets - 1];
+        for (int k = kBuckets - 2; k >= 0; --k)
+            above[k] = union_bounds(bucket[k], above[k + 1]);
+        LightBounds below;
+        int below_count = 0;
+        for (int k = 1; k < kBuckets; ++k) {
+            below = union_bounds(below, bucket[k - 1]);
+            below_count += count[k - 1];
+            if (below_count == 0 || below_count == int(ids.size())) continue;
+            const double cost =
+                orientation_area_cost(below, kr) + orientation_area_cost(above[k], kr);
+            if (cost < best) {
+                best = cost;
+                best_dim = dim;
+                best_bucket = k;
+            }
+        }
+    }
+    if (best_dim >= 0) {
+        const auto mid = std::partition(ids.begin(), ids.end(), [&](uint32_t id) {
+            return bucket_of(em[id].box.center()[best_dim], centroids.lower[best_dim],
+                             ce[best_dim]) < best_bucket;
+        });
+        return std::size_t(mid - ids.begin());
+    }
+    const int dim = ce.x >= ce.y && ce.x >= ce.z ? 0 : ce.y >= ce.z ? 1 : 2;
+    const std::size_t half = ids.size() / 2;
+    std::nth_element(ids.begin(), ids.begin() + std::ptrdiff_t(half), ids.end(),
+                     [&](uint32_t a, uint32_t b) {
+                         const float ca = em[a].box.center()[dim], cb = em[b].box.center()[dim];
+                         return ca < cb || (ca == cb && a < b);
+                     });
+    return half;
+}
+
+}  // namespace
+
+LightTree::LightTree(std::span<const LightBounds> emitters) {
+    if (emitters.empty()) return;
+    trail_.assign(emitters.size(), 0);
+    depth_.assign(emitters.size(), 0);
+    nodes_.reserve(2 * emitters.size() - 1);
+    full_.reserve(2 * emitters.size() - 1);
+    std::vector<uint32_t> ids(emitters.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    build(ids, emitters, 0, 0);
+}
+
+uint32_t LightTree::build(std::span<uint32_t> ids, std::span<const LightBounds> emitters, int depth,
+                          uint64_t trail) {
+    const auto node = uint32_t(nodes_.size());
+    nodes_.push_back({});
+    full_.emplace_back();
+    if (ids.size() == 1) {
+        nodes_[node].bounds.flags = kLeaf;
+        set_bounds(node, emitters[ids[0]]);
+        nodes_[node].child_or_emitter = ids[0];
+        trail_[ids[0]] = trail;
+        depth_[ids[0]] = uint8_t(depth);
+        return node;
+    }
+    const std::size_t mid = split_ids(ids, emitters, depth);
+    const uint32_t first = build(ids.first(mid), emitters, depth + 1, trail);
+    const uint32_t second =
+        build(ids.subspan(mid), emitters, depth + 1, trail | (uint64_t(1) << depth));
+    set_bounds(node, union_bounds(bounds(first), bounds(second)));
+    nodes_[node].child_or_emitter = second;
+    return node;
+}
+
+void LightTree::refit(std::span<const LightBounds> emitters) {
+    // Children follow their parent in the array, so one backward pass sees them first.
+    for (std::size_t i = nodes_.size(); i-- > 0;) {
+        const uint32_t child = nodes_[i].child_or_emitter;
+        set_bounds(i, is_leaf(i) ? emitters[child] : union_bounds(full_[i + 1], full_[child]));
+    }
+}
+
+double LightTree::cost() const {
+    double total = 0.0;
+    for (std::size_t i = 0; i < nodes_.size(); ++i)
+        if (!is_leaf(i)) total += orientation_area_cost(full_[i], 1.0f);
+    return total;
+}
+
+LightBounds LightTree::bounds(std::size_t i) const { return full_[i]; }
+
+void LightTree::set_bounds(std::size_t i, const LightBounds& b) {
+    full_[i] = b;
+    const uint32_t leaf = nodes_[i].bounds.flags & kLeaf;
+    nodes_[i].bounds = pack(b);
+    nodes_[i].bounds.flags |= leaf;
+}
+
+// Whether node i is so far from p, and its emitters so alike in orientation, that their
+// importance differs by little more than their power: below it, children are chosen by power
+// alone (no importance to evaluate). Decided by the node and p only, so sample() and pmf()
+// switch at the same node.
+bool LightTree::distant(uint32_t i, const Vec3& p) const {
+    const PackedLightBounds& b = nodes_[i].bounds;
+    const Vec3 d(p.x - b.center[0], p.y - b.center[1], p.z - b.center[2]);
+    return b.radius2 < kDistantSin2 * glm::dot(d, d) && b.cos_theta_o > kDistantCos;
+}
+
+// The probability of the first child of interior node i, or -1 when neither child emits.
+// Where neither child's bound lets it light p although the node's did (the union of two
+// bounds is looser than either), the subtree falls back to choosing by power: then the
+// probabilities of all emitters still sum to one whenever the root's importance is not zero.
+float LightTree::first_child_probability(uint32_t i, const Vec3& p, const Vec3& n,
+                                         bool& by_power) const {
+    const PackedLightBounds &a = nodes_[i + 1].bounds,
+                            &b = nodes_[nodes_[i].child_or_emitter].bounds;
+    if (!by_power) {
+        const float i0 = importance(a, p, n), i1 = importance(b, p, n);
+        if (i0 + i1 > 0.0f) return i0 / (i0 + i1);
+        by_power = true;
+    }
+    return a.power + b.power > 0.0f ? a.power / (a.power + b.power) : -1.0f;
+}
+
+std::optional<LightTree::Choice> LightTree::sample(const Vec3& p, const Vec3& n, float u) const {
+    if (nodes_.empty() || !(importance(nodes_[0].bounds, p, n) > 0.0f)) return std::nullopt;
+    uint32_t i = 0;
+    float pmf = 1.0f;
+    bool by_power = distant(0, p);
+    while (!is_leaf(i)) {
+        const float p0 = first_child_probability(i, p, n, by_power);
+        if (p0 < 0.0f) return std::nullopt;
+        if (u < p0) {
+            i = i + 1;
+            pmf *= p0;
+            u = std::min(u / p0, 0x1.fffffep-1f);
+        } else {
+            i = nodes_[i].child_or_emitter;
+            pmf *= 1.0f - p0;
+            u = std::min((u - p0) / (1.0f - p0), 0x1.fffffep-1f);
+        }
+        by_power = by_power || distant(i, p);
+    }
+    return Choice{nodes_[i].child_or_emitter, pmf};
+}
+
+float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t emitter) const {
+    if (emitter >= trail_.size() || !(importance(nodes_[0].bounds, p, n) > 0.0f)) return 0.0f;
+    const uint64_t trail = trail_[emitter];
+    uint32_t i = 0;
+    float pmf = 1.0f;
+    bool by_power = distant(0, p);
+    for (int d = 0; !is_leaf(i); ++d) {
+        const float p0 = first_child_probability(i, p, n, by_power);
+        if (p0 < 0.0f) return 0.0f;
+        const bool take_second = (trail >> d) & 1u;
+        pmf *= take_second ? 1.0f - p0 : p0;
+        i = take_second ? nodes_[i].child_or_emitter : i + 1;
+        by_power = by_power || distant(i, p);
+    }
+    return pmf;
+}
+
+}  // namespace pathfarm

@@ -1,0 +1,77 @@
+// A bounding-volume hierarchy over emissive triangles for next-event estimation (Conty Estevez
+// & Kulla 2018; pbrt-v4's BVHLightSampler; Cycles' light tree): each node bounds its emitters'
+// positions, normals and power (LightBounds), and a shading point descends from the root
+// choosing each child in proportion to its importance, so lights that are near and face the
+// point are chosen far more often than power alone would. pmf() retraces an emitter's path
+// from the root for multiple importance sampling. Built with the surface-area-orientation
+// heuristic over 12 buckets per axis; refit() keeps the topology for moved or switched
+// emitters, and cost() tells how much a refit has let the tree's quality degrade.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "common/render/light_bounds.h"
+
+namespace pathfarm {
+
+class LightTree {
+public:
+    // The layout the OpenCL kernel reads too (device_types.h mirrors it): an interior node's
+    // first child is the next node, its second `child_or_emitter`; a leaf holds one emitter.
+    struct Node {
+        PackedLightBounds bounds;  // flags: kPackedTwoSided, kLeaf
+        uint32_t child_or_emitter;
+    };
+    static constexpr uint32_t kLeaf = 2;
+    bool is_leaf(std::size_t node) const { return (nodes_[node].bounds.flags & kLeaf) != 0; }
+    static constexpr int kMaxDepth = 64;
+
+    LightTree() = default;
+    // One leaf per emitter, in the order given (pmf() and the sampled index refer to it).
+    explicit LightTree(std::span<const LightBounds> emitters);
+
+    // New bounds for the same emitters (moved, deformed or switched): the topology stays.
+    void refit(std::span<const LightBounds> emitters);
+    // The surface-area-orientation cost summed over interior nodes: a refit tree's cost over a
+    // fresh build's measures how much it has degraded.
+    double cost() const;
+
+    struct Choice {
+        uint32_t emitter;
+        float pmf;
+    };
+    // Chooses an emitter for a receiver at p with normal n (zero: none). Empty when no emitter
+    // can light p.
+    std::optional<Choice> sample(const Vec3& p, const Vec3& n, float u) const;
+    // The probability sample() chooses `emitter` at (p, n).
+    float pmf(const Vec3& p, const Vec3& n, uint32_t emitter) const;
+
+    bool empty() const { return nodes_.empty(); }
+    std::size_t emitter_count() const { return trail_.size(); }
+    const std::vector<Node>& nodes() const { return nodes_; }
+    // Per emitter, the path from the root: bit d set = the second child at depth d.
+    const std::vector<uint64_t>& trails() const { return trail_; }
+    const std::vector<uint8_t>& depths() const { return depth_; }
+    LightBounds bounds(std::size_t node) const;
+
+private:
+    // Below a node whose bounding sphere subtends less than this (sin^2 of the half-angle) and
+    // whose normals lie within acos(kDistantCos), children are chosen by power.
+    static constexpr float kDistantSin2 = 0.02f, kDistantCos = 0.9f;
+    bool distant(uint32_t node, const Vec3& p) const;
+    float first_child_probability(uint32_t node, const Vec3& p, const Vec3& n,
+                                  bool& by_power) const;
+    uint32_t build(std::span<uint32_t> ids, std::span<const LightBounds> emitters, int depth,
+                   uint64_t trail);
+    void set_bounds(std::size_t node, const LightBounds& b);
+
+    std::vector<Node> nodes_;
+    std::vector<LightBounds> full_;  // per node, with the box (for refit and cost)
+    std::vector<uint64_t> trail_;
+    std::vector<uint8_t> depth_;
+};
+
+}  // namespace pathfarm
