@@ -34,21 +34,23 @@ int case_count() {
 struct Param {
     uint32_t index;
     tracer::BackendKind backend;
+    LightSelection selection = LightSelection::power;
 };
 
 void PrintTo(const Param& p, std::ostream* os) {
-    *os << "case " << p.index << (p.backend == tracer::BackendKind::embree ? " embree" : " opencl");
+    *os << "case " << p.index << (p.backend == tracer::BackendKind::embree ? " embree" : " opencl")
+        << " " << light_selection_name(p.selection);
 }
 
-std::vector<FloatImage> batches(const SceneModel& scene, LightStrategy strategy,
-                                tracer::BackendKind backend, uint32_t index) {
+std::vector<FloatImage> batches(const SceneModel& scene, LightStrategy strategy, const Param& p) {
     test::RenderRequest r;
     r.width = r.height = kSize;
     r.spp = strategy == LightStrategy::bsdf_only ? 48 : 24;
-    r.seed = 100000 * (uint32_t(strategy) + 1) + 100 * index;
+    r.seed = 100000 * (uint32_t(strategy) + 1) + 100 * p.index;
     r.integrator.strategy = strategy;
     r.integrator.max_depth = 5;
-    r.backend = backend;
+    r.integrator.light_selection = p.selection;
+    r.backend = p.backend;
     return test::render_seeds(scene, r, kBatches);
 }
 
@@ -67,13 +69,13 @@ class RandomLighting : public ::testing::TestWithParam<Param> {};
 TEST_P(RandomLighting, LightBsdfAndMisAgree) {
     const Param param = GetParam();
     const test::LightingCase c = test::make_lighting_case(param.index);
-    const auto mis = batches(c.scene, LightStrategy::mis, param.backend, c.index);
-    const auto light = batches(c.scene, LightStrategy::light_only, param.backend, c.index);
+    const auto mis = batches(c.scene, LightStrategy::mis, param);
+    const auto light = batches(c.scene, LightStrategy::light_only, param);
     const auto mis_light = test::compare_batches(mis, light, kAlpha, kBlock);
     EXPECT_TRUE(mis_light.agree(kAlpha)) << c.describe() << "\n"
                                          << describe("mis vs light", mis_light);
     if (!c.bsdf_informative) return;
-    const auto bsdf = batches(c.scene, LightStrategy::bsdf_only, param.backend, c.index);
+    const auto bsdf = batches(c.scene, LightStrategy::bsdf_only, param);
     // b_sparse: BSDF sampling may still miss the light in every batch of some block.
     const auto mis_bsdf = test::compare_batches(mis, bsdf, kAlpha, kBlock, true);
     const auto light_bsdf = test::compare_batches(light, bsdf, kAlpha, kBlock, true);
@@ -120,14 +122,19 @@ std::vector<Param> params() {
     for (uint32_t i = 0; i < uint32_t(case_count()); ++i) {
         for (tracer::BackendKind backend : test::built_backends())
             out.push_back({i, backend});
+        // The light tree (issue 17): its importance bound must never leave out a light that
+        // reaches the receiver, which light-only sampling would show as missing light.
+        out.push_back({i, tracer::BackendKind::embree, LightSelection::tree});
     }
     return out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, RandomLighting, ::testing::ValuesIn(params()),
                          [](const auto& param_info) {
-                             return "case" + std::to_string(param_info.param.index) + "_" +
-                                    test::backend_label(param_info.param.backend);
+                             const Param& p = param_info.param;
+                             return "case" + std::to_string(p.index) + "_" +
+                                    test::backend_label(p.backend) +
+                                    (p.selection == LightSelection::tree ? "_tree" : "");
                          });
 
 }  // namespace
