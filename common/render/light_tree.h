@@ -57,10 +57,12 @@ public:
     const std::vector<uint8_t>& depths() const { return depth_; }
     LightBounds bounds(std::size_t node) const;
 
-private:
     // Below a node whose bounding sphere subtends less than this (sin^2 of the half-angle) and
-    // whose normals lie within acos(kDistantCos), children are chosen by power.
+    // whose normals lie within acos(kDistantCos), children are chosen by power: their
+    // importance would differ by little more than their power (measured: docs/rendering.md).
     static constexpr float kDistantSin2 = 0.02f, kDistantCos = 0.9f;
+
+private:
     bool distant(uint32_t node, const Vec3& p) const;
     float first_child_probability(uint32_t node, const Vec3& p, const Vec3& n,
                                   bool& by_power) const;

@@ -120,11 +120,11 @@ TEST(RandomLightingSuite, CoversEveryKindOfConfiguration) {
 std::vector<Param> params() {
     std::vector<Param> out;
     for (uint32_t i = 0; i < uint32_t(case_count()); ++i) {
-        for (tracer::BackendKind backend : test::built_backends())
-            out.push_back({i, backend});
-        // The light tree (issue 17): its importance bound must never leave out a light that
-        // reaches the receiver, which light-only sampling would show as missing light.
-        out.push_back({i, tracer::BackendKind::embree, LightSelection::tree});
+        // The light tree (issue 17) too: its importance bound must never leave out a light
+        // that reaches the receiver, which light-only sampling would show as missing light.
+        for (LightSelection selection : {LightSelection::power, LightSelection::tree})
+            for (tracer::BackendKind backend : test::built_backends())
+                out.push_back({i, backend, selection});
     }
     return out;
 }

@@ -36,9 +36,15 @@ static_assert(PF_WRAP_REPEAT == unsigned(WrapMode::repeat) &&
                   PF_WRAP_MIRRORED_REPEAT == unsigned(WrapMode::mirrored_repeat) &&
                   kWrapModeCount == 3,
               "WrapMode");
+static_assert(sizeof(PfLightNode) == sizeof(LightTree::Node) &&
+                  PF_LIGHT_TWO_SIDED == kPackedTwoSided && PF_LIGHT_LEAF == LightTree::kLeaf &&
+                  PF_LIGHT_DISTANT_SIN2 == LightTree::kDistantSin2 &&
+                  PF_LIGHT_DISTANT_COS == LightTree::kDistantCos,
+              "PfLightNode mirrors LightTree::Node");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
                   sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 6 * 4 &&
-                  sizeof(PfLight) == 18 * 4 && sizeof(PfSceneGlobals) == (35 + 256 + 1024) * 4 &&
+                  sizeof(PfLight) == 20 * 4 && sizeof(PfLightNode) == 12 * 4 &&
+                  sizeof(PfSceneGlobals) == (36 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
               "device structs are packed 4-byte fields (device_types.h)");
 
@@ -134,10 +140,13 @@ Bounds3f instance_bounds(const BvhNode& root, const Mat4& transform) {
 
 }  // namespace
 
-void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded, PackedScene& out) {
+void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
+                 LightSelection selection, PackedScene& out) {
     const ShadingScene shading(scene);
-    const LightSampler lights(shading, excluded);
+    const LightSampler lights(shading, excluded, selection);
     out.lights.clear();
+    out.light_nodes.clear();
+    const LightTree& tree = lights.tree();
     out.features = scene_features(shading, lights);
     const auto& cdf = lights.cdf();
     for (std::size_t k = 0; k < lights.triangles().size(); ++k) {
@@ -152,12 +161,30 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded, Pac
         l.instance = t.instance;
         l.prim = t.prim;
         l.material = t.material;
+        if (!tree.empty()) {
+            l.trail_lo = uint32_t(tree.trails()[k]);
+            l.trail_hi = uint32_t(tree.trails()[k] >> 32);
+        }
         out.lights.push_back(l);
+    }
+    for (const LightTree::Node& node : tree.nodes()) {
+        PfLightNode d{};
+        const PackedLightBounds& b = node.bounds;
+        std::copy(b.center, b.center + 3, d.center);
+        std::copy(b.axis, b.axis + 3, d.axis);
+        d.radius2 = b.radius2;
+        d.cos_theta_o = b.cos_theta_o;
+        d.sin_theta_o = b.sin_theta_o;
+        d.power = b.power;
+        d.flags = b.flags;
+        d.child_or_emitter = node.child_or_emitter;
+        out.light_nodes.push_back(d);
     }
     for (uint32_t i = 0; i < out.instances.size(); ++i)
         out.instances[i].first_light = int32_t(lights.first_light_of(i));
     PfSceneGlobals& g = out.globals;
     g.light_count = uint32_t(out.lights.size());
+    g.light_tree = tree.empty() ? 0u : 1u;
     g.p_environment = lights.environment_probability();
     g.has_environment = lights.has_environment() ? 1u : 0u;
     if (const SunSky* sky = lights.sun_sky()) {
@@ -331,7 +358,7 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
     for (const Material& m : scene.materials)
         out.materials.push_back(pack_material(m));
     pack_textures(scene, out);
-    pack_lights(scene, {}, out);
+    pack_lights(scene, {}, LightSelection::power, out);
     return out;
 }
 

@@ -47,8 +47,10 @@ bool is_traversable_bvh(const std::vector<BvhNode>& nodes, const std::vector<uin
 PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& bvhs,
                        LocalBvhCache& cache);
 
-// (Re)fills out.lights, out.globals' light fields and the instances' first_light for the
-// emitters not flagged in `excluded` (LightSampler's exclusion); out.instances must be packed.
-void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded, PackedScene& out);
+// (Re)fills out.lights, out.light_nodes (the light tree, for LightSelection::tree),
+// out.globals' light fields and the instances' first_light for the emitters not flagged in
+// `excluded` (LightSampler's exclusion); out.instances must be packed.
+void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
+                 LightSelection selection, PackedScene& out);
 
 }  // namespace pathfarm::tracer

@@ -120,8 +120,30 @@ typedef struct {
     pf_uint instance;
     pf_uint prim;
     pf_int material;
+    // Its path from the light tree's root (LightTree::trails): bit d set = second child at
+    // depth d; bits 0-31 in trail_lo.
+    pf_uint trail_lo;
+    pf_uint trail_hi;
     pf_uint pad;
 } PfLight;
+
+// A light tree node (LightTree::Node: PackedLightBounds, then the child or emitter).
+typedef struct {
+    float center[3];
+    float radius2;
+    float axis[3];
+    float cos_theta_o;
+    float sin_theta_o;
+    float power;
+    pf_uint flags;  // PF_LIGHT_TWO_SIDED, PF_LIGHT_LEAF
+    pf_uint child_or_emitter;
+} PfLightNode;
+
+#define PF_LIGHT_TWO_SIDED 1u  // kPackedTwoSided
+#define PF_LIGHT_LEAF 2u       // LightTree::kLeaf
+// LightTree's distant-node switch to choosing by power.
+#define PF_LIGHT_DISTANT_SIN2 0.02f
+#define PF_LIGHT_DISTANT_COS 0.9f
 
 // Scene-wide values: the sun/sky (SunSkyParams) and the light selection.
 typedef struct {
@@ -143,6 +165,7 @@ typedef struct {
     float p_environment;  // probability of sampling the sun/sky rather than a triangle
     pf_uint has_environment;
     pf_uint light_count;
+    pf_uint light_tree;  // nonzero: emitters are chosen through light_nodes (LightSelection)
     pf_uint instance_count;
     // sRGB-encoded byte -> linear, the host's table (common/scene/texture.cpp): a pow() per
     // channel per texel took a third of the time on PoCL.
@@ -191,6 +214,7 @@ typedef struct {
     X(materials, PfMaterial)                                            \
     X(textures, PfTexture)                                              \
     X(texels, pf_uchar) /* RGBA8, all images back to back */            \
-    X(lights, PfLight)
+    X(lights, PfLight)                                                  \
+    X(light_nodes, PfLightNode)
 
 #endif  // PATHFARM_OPENCL_DEVICE_TYPES_H

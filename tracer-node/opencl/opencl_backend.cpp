@@ -32,6 +32,7 @@ struct OpenClBackend::Impl {
     const SceneModel* scene = nullptr;
     LightCulling culling;
     PackedScene light_state;  // instances, lights and globals as last uploaded
+    LightSelection light_selection = LightSelection::power;  // as last packed
     // Scene buffers (device_types.h PF_SCENE_ARRAYS), then the globals.
 #define PF_DEVICE_ARRAY(name, type) DeviceArray name;
     PF_SCENE_ARRAYS(PF_DEVICE_ARRAY)
@@ -112,6 +113,7 @@ Status OpenClBackend::set_scene(const SceneModel& scene) {
     d.culling.set_scene(scene);
     d.light_state.instances = p.instances;
     d.light_state.globals = p.globals;
+    d.light_selection = LightSelection::power;  // pack_scene's
     std::string parts;
     for (const auto& [name, bytes] : d.upload.bytes)
         if (bytes > 0) parts += fmt::format(" {}={}", name, bytes);
@@ -239,19 +241,23 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
 }
 
 // Emitters a closed surface separates from this frame's camera leave the light arrays (as in
-// the Embree backend); the arrays are re-packed and diff-uploaded only when that set changes.
+// the Embree backend); the arrays are re-packed and diff-uploaded only when that set or the
+// light selection changes.
 Status OpenClBackend::update_lights(const RenderJob& job) {
     Impl& d = *impl_;
     const Vec3 eye = transform_point(job.frame.camera.camera_to_world, Vec3(0.0f));
-    if (!d.culling.update(eye, job.integrator.cull_sealed_lights)) return {};
+    const bool culled_changed = d.culling.update(eye, job.integrator.cull_sealed_lights);
+    if (!culled_changed && d.light_selection == job.integrator.light_selection) return {};
     const std::vector<bool>& excluded = d.culling.excluded();
-    pack_lights(*d.scene, excluded, d.light_state);
+    d.light_selection = job.integrator.light_selection;
+    pack_lights(*d.scene, excluded, d.light_selection, d.light_state);
     spdlog::debug(
         "opencl backend: {} emissive instance(s) sealed off from the camera ({} closed "
         "surface(s))",
         std::count(excluded.begin(), excluded.end(), true), d.culling.enclosure_count());
     const std::vector<PfSceneGlobals> globals{d.light_state.globals};
     for (Status s : {d.upload_array("lights", d.lights, d.light_state.lights),
+                     d.upload_array("light_nodes", d.light_nodes, d.light_state.light_nodes),
                      d.upload_array("instances", d.instances, d.light_state.instances),
                      d.upload_array("globals", d.globals, globals)})
         if (!s) return s;

@@ -60,7 +60,103 @@ bool pf_lights_empty(__global const PfSceneGlobals* g) {
     return g->light_count == 0 && g->has_environment == 0u;
 }
 
-bool pf_sample_light(const PfScene* s, float3 from, float u_select, float2 u, PfLightSample* ls) {
+// The light tree (common/render/light_tree.cpp, light_bounds.h): the same importance bound,
+// descent and distant-node switch to power, so both backends choose emitters alike.
+float pf_cos_subtract_clamped(float cos_a, float sin_a, float cos_b, float sin_b) {
+    return cos_a >= cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
+}
+
+float pf_light_importance(__global const PfLightNode* b, float3 p, float3 n) {
+    if (!(b->power > 0.0f)) return 0.0f;
+    const float3 to_p = p - pf_vec3(b->center);
+    const float dist2 = dot(to_p, to_p);
+    const float inv_dist = dist2 > 0.0f ? 1.0f / sqrt(dist2) : 0.0f;
+    float cos_b = -1.0f, sin_b = 0.0f;
+    if (dist2 > b->radius2) {
+        const float sin2 = b->radius2 * inv_dist * inv_dist;
+        sin_b = sqrt(sin2);
+        cos_b = sqrt(fmax(0.0f, 1.0f - sin2));
+    }
+    float cos_w = dot(pf_vec3(b->axis), to_p) * inv_dist;
+    if ((b->flags & PF_LIGHT_TWO_SIDED) != 0u) cos_w = fabs(cos_w);
+    float cos_wo = 1.0f, sin_wo = 0.0f;
+    if (cos_w < b->cos_theta_o) {
+        const float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
+        cos_wo = cos_w * b->cos_theta_o + sin_w * b->sin_theta_o;
+        sin_wo = fmax(0.0f, sin_w * b->cos_theta_o - cos_w * b->sin_theta_o);
+    }
+    const float cos_x = pf_cos_subtract_clamped(cos_wo, sin_wo, cos_b, sin_b);
+    if (!(cos_x > 0.0f)) return 0.0f;
+    float result = b->power * cos_x / fmax(fmax(dist2, b->radius2), 1e-20f);
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
+        const float cos_i = fabs(dot(to_p, n)) * inv_dist;
+        result *= pf_cos_subtract_clamped(cos_i, sqrt(fmax(0.0f, 1.0f - cos_i * cos_i)), cos_b,
+                                          sin_b);
+    }
+    return isfinite(result) ? result : 0.0f;
+}
+
+bool pf_light_distant(__global const PfLightNode* b, float3 p) {
+    const float3 d = p - pf_vec3(b->center);
+    return b->radius2 < PF_LIGHT_DISTANT_SIN2 * dot(d, d) && b->cos_theta_o > PF_LIGHT_DISTANT_COS;
+}
+
+// LightTree::first_child_probability.
+float pf_first_child_probability(const PfScene* s, uint i, float3 p, float3 n, bool* by_power) {
+    __global const PfLightNode* a = &s->light_nodes[i + 1];
+    __global const PfLightNode* b = &s->light_nodes[s->light_nodes[i].child_or_emitter];
+    if (!*by_power) {
+        const float i0 = pf_light_importance(a, p, n), i1 = pf_light_importance(b, p, n);
+        if (i0 + i1 > 0.0f) return i0 / (i0 + i1);
+        *by_power = true;
+    }
+    return a->power + b->power > 0.0f ? a->power / (a->power + b->power) : -1.0f;
+}
+
+bool pf_light_tree_sample(const PfScene* s, float3 p, float3 n, float u, uint* emitter,
+                          float* pmf_out) {
+    if (!(pf_light_importance(&s->light_nodes[0], p, n) > 0.0f)) return false;
+    uint i = 0;
+    float pmf = 1.0f;
+    bool by_power = pf_light_distant(&s->light_nodes[0], p);
+    while ((s->light_nodes[i].flags & PF_LIGHT_LEAF) == 0u) {
+        const float p0 = pf_first_child_probability(s, i, p, n, &by_power);
+        if (p0 < 0.0f) return false;
+        if (u < p0) {
+            i = i + 1;
+            pmf *= p0;
+            u = fmin(u / p0, 0x1.fffffep-1f);
+        } else {
+            i = s->light_nodes[i].child_or_emitter;
+            pmf *= 1.0f - p0;
+            u = fmin((u - p0) / (1.0f - p0), 0x1.fffffep-1f);
+        }
+        by_power = by_power || pf_light_distant(&s->light_nodes[i], p);
+    }
+    *emitter = s->light_nodes[i].child_or_emitter;
+    *pmf_out = pmf;
+    return true;
+}
+
+float pf_light_tree_pmf(const PfScene* s, float3 p, float3 n, uint emitter) {
+    if (!(pf_light_importance(&s->light_nodes[0], p, n) > 0.0f)) return 0.0f;
+    __global const PfLight* light = &s->lights[emitter];
+    uint i = 0;
+    float pmf = 1.0f;
+    bool by_power = pf_light_distant(&s->light_nodes[0], p);
+    for (uint d = 0; (s->light_nodes[i].flags & PF_LIGHT_LEAF) == 0u; ++d) {
+        const float p0 = pf_first_child_probability(s, i, p, n, &by_power);
+        if (p0 < 0.0f) return 0.0f;
+        const uint bit = d < 32u ? (light->trail_lo >> d) & 1u : (light->trail_hi >> (d - 32u)) & 1u;
+        pmf *= bit != 0u ? 1.0f - p0 : p0;
+        i = bit != 0u ? s->light_nodes[i].child_or_emitter : i + 1;
+        by_power = by_power || pf_light_distant(&s->light_nodes[i], p);
+    }
+    return pmf;
+}
+
+bool pf_sample_light(const PfScene* s, float3 from, float3 normal, float u_select, float2 u,
+                     PfLightSample* ls) {
     __global const PfSceneGlobals* g = s->globals;
     if (pf_lights_empty(g)) return false;
     ls->n = (float3)(0.0f);
@@ -84,20 +180,26 @@ bool pf_sample_light(const PfScene* s, float3 from, float u_select, float2 u, Pf
         return true;
     }
     const float us = (u_select - g->p_environment) / (1.0f - g->p_environment);
-    // upper_bound: the first light whose cumulative power exceeds us.
-    uint lo = 0, hi = g->light_count;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2;
-        if (s->lights[mid].cdf <= us) lo = mid + 1;
-        else hi = mid;
+    uint k;
+    float pmf;
+    if (g->light_tree != 0u) {
+        if (!pf_light_tree_sample(s, from, normal, us, &k, &pmf)) return false;
+    } else {
+        // upper_bound: the first light whose cumulative power exceeds us.
+        uint lo = 0, hi = g->light_count;
+        while (lo < hi) {
+            const uint mid = (lo + hi) / 2;
+            if (s->lights[mid].cdf <= us) lo = mid + 1;
+            else hi = mid;
+        }
+        k = min(lo, g->light_count - 1);
+        pmf = s->lights[k].cdf - (k > 0 ? s->lights[k - 1].cdf : 0.0f);
     }
-    const uint k = min(lo, g->light_count - 1);
     __global const PfLight* tri = &s->lights[k];
     if (tri->area <= 0.0f) return false;
     const float2 b = pf_sample_uniform_triangle(u);
     ls->p = pf_vec3(tri->p0) + b.x * pf_vec3(tri->e1) + b.y * pf_vec3(tri->e2);
     ls->n = pf_vec3(tri->n);
-    const float pmf = tri->cdf - (k > 0 ? s->lights[k - 1].cdf : 0.0f);
     ls->pdf = (1.0f - g->p_environment) * pmf / tri->area;
     __global const PfMaterial* mat = &s->materials[tri->material];
     const bool alpha_tested = (s->meshes[s->instances[tri->instance].mesh].flags &
@@ -115,12 +217,16 @@ bool pf_sample_light(const PfScene* s, float3 from, float u_select, float2 u, Pf
     return true;
 }
 
-// Selection probability times 1/area for the emissive triangle, 0 if it is not a light.
-float pf_triangle_pdf_area(const PfScene* s, uint instance, uint prim) {
+// Selection probability (for a receiver at `from` with normal `normal`) times 1/area for the
+// emissive triangle, 0 if it is not a light.
+float pf_triangle_pdf_area(const PfScene* s, uint instance, uint prim, float3 from,
+                           float3 normal) {
     const int first = s->instances[instance].first_light;
     if (first < 0) return 0.0f;
     const uint k = (uint)first + prim;
     __global const PfLight* tri = &s->lights[k];
-    const float pmf = tri->cdf - (k > 0 ? s->lights[k - 1].cdf : 0.0f);
+    const float pmf = s->globals->light_tree != 0u
+                          ? pf_light_tree_pmf(s, from, normal, k)
+                          : tri->cdf - (k > 0 ? s->lights[k - 1].cdf : 0.0f);
     return tri->area > 0.0f ? (1.0f - s->globals->p_environment) * pmf / tri->area : 0.0f;
 }

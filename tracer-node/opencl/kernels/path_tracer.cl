@@ -18,8 +18,8 @@ bool pf_consistent_side(float3 w_world, float3 w_local, float3 ng) {
 }
 
 float pf_light_pdf_solid_angle(const PfScene* s, const PfHit* hit, const PfSurface* sp,
-                               float3 origin) {
-    const float pdf_area = pf_triangle_pdf_area(s, hit->instance, hit->prim);
+                               float3 origin, float3 origin_normal) {
+    const float pdf_area = pf_triangle_pdf_area(s, hit->instance, hit->prim, origin, origin_normal);
     if (pdf_area <= 0.0f) return 0.0f;
     const float3 d = sp->p - origin;
     const float dist2 = dot(d, d);
@@ -37,7 +37,7 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurfa
         !bsdf->has_non_delta)
         return (float3)(0.0f);
     PfLightSample ls;
-    if (!pf_sample_light(s, sp->p, u_select.x, u_light, &ls) || ls.pdf <= 0.0f ||
+    if (!pf_sample_light(s, sp->p, sp->ng, u_select.x, u_light, &ls) || ls.pdf <= 0.0f ||
         pf_max3(ls.radiance) <= 0.0f)
         return (float3)(0.0f);
     float3 wi;
@@ -93,6 +93,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
     bool delta_bounce = true;
     float bsdf_pdf = 0.0f;
     float3 last_point = ray.o;
+    float3 last_normal = (float3)(0.0f);  // PathState::last_normal
     for (int depth = 0;; ++depth) {
         PfHit hit;
         ++*rays;
@@ -117,7 +118,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
             if (pf_max3(le) > 0.0f) {
                 const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
                                     ? 1.0f
-                                    : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(s, &hit, &sp, last_point));
+                                    : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(s, &hit, &sp, last_point, last_normal));
                 radiance += beta * le * w;
             }
         }
@@ -159,6 +160,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
             beta /= survive;
         }
         last_point = sp.p;
+        last_normal = sp.ng;
         ray.o = pf_offset_ray_origin(sp.p, ng_out);
         ray.d = wi;
         ray.tmax = PF_INFINITY;
