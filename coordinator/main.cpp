@@ -93,7 +93,7 @@ struct Command {
     double export_at = 0.0, fps = 30.0;
     int frames = -1;
     bool offline_mode = false, no_converge = false;
-    std::string denoise = "on";
+    std::string denoise = "on", light_sampler = "power";
     pathfarm::coord::OfflineOptions o;
     pathfarm::coord::FarmOptions f;
     CLI::Option* tracer_port = nullptr;
@@ -168,6 +168,11 @@ void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
                    "frame alone with --no-converge): on or off")
         ->capture_default_str()
         ->check(CLI::IsMember({"on", "off"}));
+    app.add_option("--light-sampler", c.light_sampler,
+                   "Emitter choice for next-event estimation on the tracers: tree (by importance "
+                   "to the shading point) or power")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"tree", "power"}));
     app.add_option("--min-rr-scale", f.min_rr_scale,
                    "Workload scaling's floor on the Russian-roulette survival scale")
         ->capture_default_str();
@@ -226,6 +231,7 @@ int run(Command& c) {
         c.f.stats_csv = c.stats_csv;
         c.f.converge = !c.no_converge;
         c.f.denoise = c.denoise == "on";
+        c.f.light_tree = c.light_sampler == "tree";
         return farm(std::move(*scene), c.clip_name, c.secret_file, c.f);
     }
     c.o.frames = c.frames < 0 ? 60 : c.frames;

@@ -72,6 +72,7 @@ Status FrameWorker::render(const wire::Assignment& a) {
                           scene_.cameras.empty() ? Camera{} : scene_.cameras[0]};
     job.integrator.max_depth = int(a.max_depth);
     job.integrator.rr_scale = std::min(1.0f, a.rr_scale);
+    job.integrator.light_selection = a.light_tree ? LightSelection::tree : LightSelection::power;
     const int tile_rows = kRowsPerTile;
     for (int y = int(a.y0); y < int(a.y1); y += tile_rows) {
         if (control_.newest_commit() > a.commit) return {};  // the frame closed: drop stale rows

@@ -27,6 +27,7 @@ struct Assignment {
     uint32_t spp = 1, seed = 0, max_depth = 8;
     float rr_scale = 1.0f;    // Russian-roulette survival scale in (0, 1] (workload scaling)
     bool first_hits = false;  // send each pixel's first hit with the tiles
+    bool light_tree = false;  // next-event estimation through the light tree, not by power
 };
 
 // Coordinator -> tracer: the rows of `frame` from `row` on went to another tracer: stop before

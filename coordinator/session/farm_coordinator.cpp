@@ -148,8 +148,9 @@ bool Farm::converged_and_unchanged(const PreparedFrame& p) {
 
 FrameWork Farm::next_work(uint64_t frame) const {
     // Converging reprojects with the tracers' first hits.
-    FrameWork w{frame, o_.width, o_.height,    o_.spp,
-                1.0f,  o_.seed,  o_.max_depth, o_.converge || o_.denoise};
+    FrameWork w{frame,        o_.width, o_.height,    o_.spp,
+                1.0f,         o_.seed,  o_.max_depth, o_.converge || o_.denoise,
+                o_.light_tree};
     if (!scaler_) return w;
     const QualityLevel& l = scaler_->level();
     w.width = std::max(8, int(std::lround(o_.width * l.resolution)));

@@ -117,7 +117,8 @@ void TracerPool::assign(uint64_t id, Tracer& t, const RowRange& r) {
                        work_.seed,
                        uint32_t(work_.max_depth),
                        work_.rr_scale,
-                       work_.first_hits};
+                       work_.first_hits,
+                       work_.light_tree};
     t.session->send(wire::encode_assignment(a));
     t.assigned.push_back(r);
     t.news_at = now_();

@@ -33,6 +33,7 @@ struct FrameWork {
     uint32_t seed = 0;
     int max_depth = 8;
     bool first_hits = false;  // the tiles carry first hits (FrameOutcome::first_hits)
+    bool light_tree = false;  // IntegratorSettings::light_selection is tree
 };
 
 // A commit as envelopes, plain and with the BVH ops for tracers that traverse the

@@ -76,10 +76,23 @@ int Farm::finish(std::chrono::milliseconds timeout) {
 
 std::string Farm::reference(int frame) {
     const std::string out = dir + "/reference_" + std::to_string(frame) + ".pfm";
-    Process render({kRender, "--scene", scene, "--width", std::to_string(kWidth), "--height",
-                    std::to_string(kHeight), "--spp", std::to_string(spp), "--frame",
-                    std::to_string(frame), "--out", out, "--log-level", "error"},
-                   dir + "/render.log");
+    std::vector<std::string> args{kRender,
+                                  "--scene",
+                                  scene,
+                                  "--width",
+                                  std::to_string(kWidth),
+                                  "--height",
+                                  std::to_string(kHeight),
+                                  "--spp",
+                                  std::to_string(spp),
+                                  "--frame",
+                                  std::to_string(frame),
+                                  "--out",
+                                  out,
+                                  "--log-level",
+                                  "error"};
+    args.insert(args.end(), render_args.begin(), render_args.end());
+    Process render(args, dir + "/render.log");
     EXPECT_EQ(render.wait(30s), std::optional<int>(0)) << read_file(dir + "/render.log");
     return out;
 }

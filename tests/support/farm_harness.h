@@ -25,6 +25,7 @@ struct Farm {
     int spp = 2;
     static constexpr int kWidth = 64, kHeight = 50;  // every farm's frame size
     std::string scene = "builtin:default";
+    std::vector<std::string> render_args;  // appended to reference()'s pathfarm-render
 
     Farm();
     // Starts a 64x50 coordinator (`spp` samples per pixel) on builtin:default with `extra`

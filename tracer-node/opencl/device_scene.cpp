@@ -138,6 +138,20 @@ Bounds3f instance_bounds(const BvhNode& root, const Mat4& transform) {
     return b;
 }
 
+PfLightNode device_light_node(const LightTree::Node& node) {
+    PfLightNode d{};
+    const PackedLightBounds& b = node.bounds;
+    std::copy(b.center, b.center + 3, d.center);
+    std::copy(b.axis, b.axis + 3, d.axis);
+    d.radius2 = b.radius2;
+    d.cos_theta_o = b.cos_theta_o;
+    d.sin_theta_o = b.sin_theta_o;
+    d.power = b.power;
+    d.flags = b.flags;
+    d.child_or_emitter = node.child_or_emitter;
+    return d;
+}
+
 }  // namespace
 
 void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
@@ -167,19 +181,8 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
         }
         out.lights.push_back(l);
     }
-    for (const LightTree::Node& node : tree.nodes()) {
-        PfLightNode d{};
-        const PackedLightBounds& b = node.bounds;
-        std::copy(b.center, b.center + 3, d.center);
-        std::copy(b.axis, b.axis + 3, d.axis);
-        d.radius2 = b.radius2;
-        d.cos_theta_o = b.cos_theta_o;
-        d.sin_theta_o = b.sin_theta_o;
-        d.power = b.power;
-        d.flags = b.flags;
-        d.child_or_emitter = node.child_or_emitter;
-        out.light_nodes.push_back(d);
-    }
+    for (const LightTree::Node& node : tree.nodes())
+        out.light_nodes.push_back(device_light_node(node));
     for (uint32_t i = 0; i < out.instances.size(); ++i)
         out.instances[i].first_light = int32_t(lights.first_light_of(i));
     PfSceneGlobals& g = out.globals;
