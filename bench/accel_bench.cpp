@@ -3,7 +3,9 @@
 //   build of the Stanford dragon (871k triangles), refit and rebuild per 1000 dynamic
 //   triangles, top-level rebuild for 1k and 10k instances, and the per-frame update of a large
 //   static scene plus one skinned model next to that skinned model alone; and the tracers'
-//   closed-surface analysis for light culling (SealedEmitters) on Sponza and two built-ins.
+//   closed-surface analysis for light culling (SealedEmitters) on Sponza and two built-ins;
+//   the light tree over builtin:light-field's 9 912 emitters: build, refit after its ring
+//   turned, and the whole light sampler built or refitted (issue: many lights).
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -13,6 +15,7 @@
 
 #include "common/base/log.h"
 #include "common/base/timer.h"
+#include "common/render/light_sampler.h"
 #include "common/render/sealed_emitters.h"
 #include "common/sampling/rng.h"
 #include "common/scene/load/builtin_scenes.h"
@@ -138,6 +141,44 @@ void sealed_emitter_rows(const SceneModel& sponza) {
         median_ms(5, [&] { (void)sealed.adopt_translated(moved); }));
 }
 
+// The light tree over builtin:light-field's emitters: built, refitted after the ring turned
+// by a frame's angle, and the light sampler (emitter list, power, tree) built or refitted.
+void light_tree_rows() {
+    const SceneModel field = make_light_field_scene();
+    SceneModel turned = field;
+    for (Instance& inst : turned.instances)
+        if (field.nodes[std::size_t(inst.node)].name == "ring")
+            inst.transform = glm::rotate(Mat4(1.0f), 0.05f, Vec3(0, 1, 0)) * inst.transform;
+    const auto bounds_of = [](const LightSampler& s) {
+        std::vector<LightBounds> b;
+        for (const auto& t : s.triangles())
+            b.push_back(triangle_light_bounds(t.p0, t.p0 + t.e1, t.p0 + t.e2, t.n, t.area, false));
+        return b;
+    };
+    const ShadingScene shading(field), shading_turned(turned);
+    const std::vector<LightBounds> before = bounds_of(LightSampler(shading)),
+                                   after = bounds_of(LightSampler(shading_turned));
+    LightTree tree(before);
+    row("light_tree_build_light_field", before.size(),
+        median_ms(9, [&] { tree = LightTree(before); }));
+    row("light_tree_refit_light_field", after.size(), median_ms(9, [&] {
+                                                          tree.refit(after);
+                                                          tree.refit(before);
+                                                      }) / 2.0);
+    row("light_sampler_tree_light_field", before.size(),
+        median_ms(9, [&] { const LightSampler s(shading, {}, LightSelection::tree); }));
+    std::vector<double> refit_ms;
+    for (int i = 0; i < 9; ++i) {
+        LightSampler previous(shading, {}, LightSelection::tree);
+        const Timer t;
+        const LightSampler s(shading_turned, {}, LightSelection::tree, &previous);
+        refit_ms.push_back(t.milliseconds());
+        if (!s.tree_refitted()) std::fprintf(stderr, "accel_bench: the tree was rebuilt\n");
+    }
+    std::sort(refit_ms.begin(), refit_ms.end());
+    row("light_sampler_tree_refit_light_field", before.size(), refit_ms[4]);
+}
+
 Result<SceneModel> load_or_report(const std::string& path) {
     auto scene = load_scene(path);
     if (!scene) std::fprintf(stderr, "accel_bench: %s\n", scene.error().message.c_str());
@@ -161,5 +202,6 @@ int main(int argc, char** argv) {
     row("update_skinned_plus_static_dragon", triangle_count(*man) + triangle_count(*dragon),
         with_static);
     sealed_emitter_rows(*sponza);
+    light_tree_rows();
     return 0;
 }

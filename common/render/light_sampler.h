@@ -32,8 +32,13 @@ class LightSampler {
 public:
     // Instances flagged in `excluded` (indexed like SceneModel::instances) are not sampled:
     // emitters that cannot contribute (SealedEmitters).
+    // `previous`: the sampler of the scene's last state. When the same emitters are lit (only
+    // moved, turned or deformed), its light tree is refitted rather than built anew, unless
+    // the refit has degraded its cost by more than kRefitCostLimit since its last build.
     explicit LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded = {},
-                          LightSelection selection = LightSelection::power);
+                          LightSelection selection = LightSelection::power,
+                          LightSampler* previous = nullptr);
+    static constexpr double kRefitCostLimit = 1.25;
 
     bool empty() const { return triangles_.empty() && !sun_sky_; }
     // Samples a light as seen from a receiver at `from` with geometric normal `normal` (zero:
@@ -60,7 +65,8 @@ public:
     const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
     const std::vector<float>& cdf() const { return cdf_; }  // normalised cumulative power
     LightSelection selection() const { return selection_; }
-    const LightTree& tree() const { return tree_; }  // empty unless selection() is tree
+    const LightTree& tree() const { return tree_; }        // empty unless selection() is tree
+    bool tree_refitted() const { return tree_refitted_; }  // reused from `previous`
     float environment_probability() const { return p_environment_; }
     const SunSky* sun_sky() const { return sun_sky_.get(); }
     // Index of the instance's first triangle in triangles(), or -1 if it emits nothing.
@@ -70,9 +76,14 @@ private:
     // The selection probability of emitter k for a receiver at (from, normal).
     float selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const;
 
+    // The light tree over `bounds`: `previous`'s refitted when it holds the same emitters.
+    void make_tree(const std::vector<LightBounds>& bounds, LightSampler* previous);
+
     const ShadingScene& shading_;
     LightSelection selection_;
     LightTree tree_;
+    double tree_built_cost_ = 0.0;  // the tree's cost when it was last built
+    bool tree_refitted_ = false;
     std::vector<EmissiveTriangle> triangles_;
     std::vector<float> cdf_;                // cumulative power, normalised to 1
     std::vector<int64_t> instance_offset_;  // first light of each instance, or -1

@@ -13,34 +13,113 @@ constexpr int kBuckets = 12;
 // so every path fits a 64-bit trail.
 constexpr int kBalancedFromDepth = 40;
 
-// The surface-area-orientation heuristic (Conty Estevez & Kulla 2018, eq. 3, with theta_e =
-// pi/2): power times the solid angle the group may light (M_omega) times its box's area. `kr`
-// penalises splitting a long box across its short side.
-double orientation_area_cost(const LightBounds& b, float kr) {
-    if (!(b.power > 0.0f)) return 0.0;
-    const double cos_o = std::clamp(double(b.cos_theta_o), -1.0, 1.0);
-    const double theta_o = std::acos(cos_o), sin_o = std::sin(theta_o);
+// M_omega of Conty Estevez & Kulla 2018 (eq. 1, theta_e = pi/2): the solid angle a cone of
+// normals of half-angle theta_o may light, weighted by cosine.
+double orientation_measure(double cos_o) {
     const double pi = 3.14159265358979323846;
+    const double theta_o = std::acos(std::clamp(cos_o, -1.0, 1.0)), sin_o = std::sin(theta_o);
     const double theta_w = std::min(theta_o + pi / 2, pi);
-    const double m_omega =
-        2 * pi * (1 - cos_o) +
-        pi / 2 *
-            (2 * theta_w * sin_o - std::cos(theta_o - 2 * theta_w) - 2 * theta_o * sin_o + cos_o);
-    const Vec3 e = b.box.empty() ? Vec3(0.0f) : b.box.extent();
+    return 2 * pi * (1 - cos_o) + pi / 2 *
+                                      (2 * theta_w * sin_o - std::cos(theta_o - 2 * theta_w) -
+                                       2 * theta_o * sin_o + cos_o);
+}
+
+// orientation_measure tabulated over cos theta_o in [-1, 1] (the split search evaluates it
+// some 60 times per node): linear interpolation, well within what a heuristic needs.
+double orientation_measure_fast(float cos_o) {
+    constexpr int kSteps = 512;
+    static const std::vector<double> table = [] {
+        std::vector<double> t(kSteps + 1);
+        for (int i = 0; i <= kSteps; ++i)
+            t[std::size_t(i)] = orientation_measure(-1.0 + 2.0 * double(i) / kSteps);
+        return t;
+    }();
+    const double x = (std::clamp(double(cos_o), -1.0, 1.0) + 1.0) * 0.5 * kSteps;
+    const int i = std::min(kSteps - 1, int(x));
+    return table[std::size_t(i)] + (x - i) * (table[std::size_t(i) + 1] - table[std::size_t(i)]);
+}
+
+// The surface-area-orientation heuristic (Conty Estevez & Kulla 2018, eq. 3): power times
+// M_omega times the box's area. `kr` penalises splitting a long box across its short side.
+double orientation_area_cost(const Bounds3f& box, float power, float cos_theta_o, float kr) {
+    if (!(power > 0.0f) || box.empty()) return 0.0;
+    const Vec3 e = box.extent();
     const double area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
-    return double(b.power) * m_omega * double(kr) * area;
+    return double(power) * orientation_measure_fast(cos_theta_o) * double(kr) * area;
 }
 
 int bucket_of(float c, float lower, float extent) {
     return std::min(kBuckets - 1, int(float(kBuckets) * (c - lower) / extent));
 }
 
+// What the split search keeps of a group of emitters: cheap to extend by one emitter and to
+// merge. The normal cone is estimated from the mean of the axes (its length R: 1 when all
+// face one way; cos theta_o ~ 2R - 1), not unioned exactly: the exact union is an acos, a
+// rotation and more per emitter per axis per level, which made building 10 000 emitters take
+// 120 ms. The nodes' own bounds are exact (union_bounds of their children).
+struct GroupSummary {
+    Bounds3f box;
+    Vec3 axis_sum{0.0f};
+    float power = 0.0f;
+    int count = 0;
+
+    void add(const LightBounds& b) {
+        if (!(b.power > 0.0f)) {
+            ++count;
+            return;
+        }
+        box.extend(b.box);
+        axis_sum += b.axis * std::max(0.0f, b.cos_theta_o);
+        power += b.power;
+        ++count;
+    }
+    void add(const GroupSummary& g) {
+        box.extend(g.box);
+        axis_sum += g.axis_sum;
+        power += g.power;
+        count += g.count;
+    }
+    double cost(float kr) const {
+        if (count == 0) return 0.0;
+        const float cos_o = 2.0f * glm::length(axis_sum) / float(count) - 1.0f;
+        return orientation_area_cost(box, power, cos_o, kr);
+    }
+};
+
+// The cheapest bucket boundary along `dim` (cost, bucket), or cost infinity when none
+// separates anything.
+std::pair<double, int> best_bucket_along(std::span<const uint32_t> ids,
+                                         std::span<const LightBounds> em,
+                                         std::span<const Vec3> centre, const Bounds3f& centroids,
+                                         int dim, float kr) {
+    const float lower = centroids.lower[dim], extent = centroids.extent()[dim];
+    GroupSummary bucket[kBuckets];
+    for (uint32_t id : ids)
+        bucket[bucket_of(centre[id][dim], lower, extent)].add(em[id]);
+    GroupSummary above[kBuckets];
+    above[kBuckets - 1] = bucket[kBuckets - 1];
+    for (int k = kBuckets - 2; k >= 0; --k) {
+        above[k] = bucket[k];
+        above[k].add(above[k + 1]);
+    }
+    std::pair<double, int> best{INFINITY, 0};
+    GroupSummary below;
+    for (int k = 1; k < kBuckets; ++k) {
+        below.add(bucket[k - 1]);
+        if (below.count == 0 || below.count == int(ids.size())) continue;
+        const double cost = below.cost(kr) + above[k].cost(kr);
+        if (cost < best.first) best = {cost, k};
+    }
+    return best;
+}
+
 // Where to split `ids`: the cheapest bucket boundary by the heuristic over the three axes, or
 // the median along the widest axis when no boundary separates anything (or deep down).
-std::size_t split_ids(std::span<uint32_t> ids, std::span<const LightBounds> em, int depth) {
+std::size_t split_ids(std::span<uint32_t> ids, std::span<const LightBounds> em,
+                      std::span<const Vec3> centre, int depth) {
     Bounds3f centroids, boxes;
     for (uint32_t id : ids) {
-        centroids.extend(em[id].box.center());
+        centroids.extend(centre[id]);
         boxes.extend(em[id].box);
     }
     const Vec3 ce = centroids.extent(), be = boxes.extent();
@@ -49,37 +128,18 @@ std::size_t split_ids(std::span<uint32_t> ids, std::span<const LightBounds> em, 
     int best_dim = -1, best_bucket = 0;
     for (int dim = 0; dim < 3 && depth < kBalancedFromDepth; ++dim) {
         if (!(ce[dim] > 0.0f)) continue;
-        LightBounds bucket[kBuckets];
-        int count[kBuckets] = {};
-        for (uint32_t id : ids) {
-            const int k = bucket_of(em[id].box.center()[dim], centroids.lower[dim], ce[dim]);
-            ++count[k];
-            bucket[k] = union_bounds(bucket[k], em[id]);
-        }
         const float kr = be[dim] > 0.0f ? widest / be[dim] : 1.0f;
-        LightBounds above[kBuckets];
-        above[kBuckets - 1] = bucket[kBuckets - 1];
-        for (int k = kBuckets - 2; k >= 0; --k)
-            above[k] = union_bounds(bucket[k], above[k + 1]);
-        LightBounds below;
-        int below_count = 0;
-        for (int k = 1; k < kBuckets; ++k) {
-            below = union_bounds(below, bucket[k - 1]);
-            below_count += count[k - 1];
-            if (below_count == 0 || below_count == int(ids.size())) continue;
-            const double cost =
-                orientation_area_cost(below, kr) + orientation_area_cost(above[k], kr);
-            if (cost < best) {
-                best = cost;
-                best_dim = dim;
-                best_bucket = k;
-            }
+        const auto [cost, bucket] = best_bucket_along(ids, em, centre, centroids, dim, kr);
+        if (cost < best) {
+            best = cost;
+            best_dim = dim;
+            best_bucket = bucket;
         }
     }
     if (best_dim >= 0) {
         const auto mid = std::partition(ids.begin(), ids.end(), [&](uint32_t id) {
-            return bucket_of(em[id].box.center()[best_dim], centroids.lower[best_dim],
-                             ce[best_dim]) < best_bucket;
+            return bucket_of(centre[id][best_dim], centroids.lower[best_dim], ce[best_dim]) <
+                   best_bucket;
         });
         return std::size_t(mid - ids.begin());
     }
@@ -87,7 +147,7 @@ std::size_t split_ids(std::span<uint32_t> ids, std::span<const LightBounds> em, 
     const std::size_t half = ids.size() / 2;
     std::nth_element(ids.begin(), ids.begin() + std::ptrdiff_t(half), ids.end(),
                      [&](uint32_t a, uint32_t b) {
-                         const float ca = em[a].box.center()[dim], cb = em[b].box.center()[dim];
+                         const float ca = centre[a][dim], cb = centre[b][dim];
                          return ca < cb || (ca == cb && a < b);
                      });
     return half;
@@ -103,11 +163,14 @@ LightTree::LightTree(std::span<const LightBounds> emitters) {
     full_.reserve(2 * emitters.size() - 1);
     std::vector<uint32_t> ids(emitters.size());
     std::iota(ids.begin(), ids.end(), 0u);
-    build(ids, emitters, 0, 0);
+    std::vector<Vec3> centre(emitters.size());
+    for (std::size_t i = 0; i < emitters.size(); ++i)
+        centre[i] = emitters[i].box.center();
+    build(ids, emitters, centre, 0, 0);
 }
 
-uint32_t LightTree::build(std::span<uint32_t> ids, std::span<const LightBounds> emitters, int depth,
-                          uint64_t trail) {
+uint32_t LightTree::build(std::span<uint32_t> ids, std::span<const LightBounds> emitters,
+                          std::span<const Vec3> centre, int depth, uint64_t trail) {
     const auto node = uint32_t(nodes_.size());
     nodes_.push_back({});
     full_.emplace_back();
@@ -119,10 +182,10 @@ uint32_t LightTree::build(std::span<uint32_t> ids, std::span<const LightBounds> 
         depth_[ids[0]] = uint8_t(depth);
         return node;
     }
-    const std::size_t mid = split_ids(ids, emitters, depth);
-    const uint32_t first = build(ids.first(mid), emitters, depth + 1, trail);
+    const std::size_t mid = split_ids(ids, emitters, centre, depth);
+    const uint32_t first = build(ids.first(mid), emitters, centre, depth + 1, trail);
     const uint32_t second =
-        build(ids.subspan(mid), emitters, depth + 1, trail | (uint64_t(1) << depth));
+        build(ids.subspan(mid), emitters, centre, depth + 1, trail | (uint64_t(1) << depth));
     set_bounds(node, union_bounds(bounds(first), bounds(second)));
     nodes_[node].child_or_emitter = second;
     return node;
@@ -139,7 +202,9 @@ void LightTree::refit(std::span<const LightBounds> emitters) {
 double LightTree::cost() const {
     double total = 0.0;
     for (std::size_t i = 0; i < nodes_.size(); ++i)
-        if (!is_leaf(i)) total += orientation_area_cost(full_[i], 1.0f);
+        if (!is_leaf(i))
+            total +=
+                orientation_area_cost(full_[i].box, full_[i].power, full_[i].cos_theta_o, 1.0f);
     return total;
 }
 

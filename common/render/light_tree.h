@@ -66,8 +66,8 @@ private:
     bool distant(uint32_t node, const Vec3& p) const;
     float first_child_probability(uint32_t node, const Vec3& p, const Vec3& n,
                                   bool& by_power) const;
-    uint32_t build(std::span<uint32_t> ids, std::span<const LightBounds> emitters, int depth,
-                   uint64_t trail);
+    uint32_t build(std::span<uint32_t> ids, std::span<const LightBounds> emitters,
+                   std::span<const Vec3> centre, int depth, uint64_t trail);
     void set_bounds(std::size_t node, const LightBounds& b);
 
     std::vector<Node> nodes_;

@@ -45,6 +45,7 @@ public:
 
     Status set_scene(const SceneModel& scene) override {
         lights_.reset();
+        previous_lights_.reset();
         shading_.reset();
         kernel_.reset();
         const Timer timer;
@@ -86,8 +87,10 @@ public:
         if (!culled_changed && lights_ && lights_->selection() == job.integrator.light_selection)
             return;
         const std::vector<bool>& excluded = culling_.excluded();
-        lights_ =
-            std::make_unique<LightSampler>(*shading_, excluded, job.integrator.light_selection);
+        // The last scene state's sampler lends its light tree for a refit (LightSampler).
+        lights_ = std::make_unique<LightSampler>(
+            *shading_, excluded, job.integrator.light_selection, previous_lights_.get());
+        previous_lights_.reset();
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",
@@ -171,7 +174,7 @@ private:
     // when only the camera moved), the light sampler rebuilt at the next render.
     void adopt(const SceneModel& scene) {
         adopted_ = &scene;
-        lights_.reset();
+        if (lights_) previous_lights_ = std::move(lights_);
         shading_ = std::make_unique<ShadingScene>(scene);
         culling_.set_scene(scene);
     }
@@ -182,6 +185,9 @@ private:
     std::unique_ptr<ShadingScene> shading_;
     LightCulling culling_;
     std::unique_ptr<LightSampler> lights_;
+    // The sampler of the scene as it was, until the next one takes its tree over. Its
+    // ShadingScene is gone: only its tree and emitter list are read.
+    std::unique_ptr<LightSampler> previous_lights_;
     const SceneModel* adopted_ = nullptr;  // the model shading_ refers to
 };
 

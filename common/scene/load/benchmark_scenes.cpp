@@ -3,7 +3,9 @@
 // metal under one small light), builtin:many-lights (a room lit only by 1024 small emissive
 // quads of different colours and strengths: light selection) and builtin:sealed-lights (the
 // camera's room lit by one lamp, next to a closed room holding those 1024 panels: emitters
-// that cannot contribute).
+// that cannot contribute) and builtin:light-field (about 10 000 small emitters of six colours
+// facing every way, 2 000 of them on a turning ring: many-light sampling, after Brigade's
+// Reflect).
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/base/hash.h"
@@ -125,6 +127,118 @@ SceneModel make_many_lights_scene() {
         "block");
     b.add_instance(b.add_mesh(make_sphere(0.35f, 32, 64, walls)),
                    glm::translate(Mat4(1.0f), Vec3(0.7f, 0.35f, -0.4f)), -1, "ball");
+    b.add_camera(room_camera());
+    b.environment().sky = SkyMode::off;
+    return b.finish();
+}
+
+namespace {
+
+// Small emissive triangles (edge ~`size`) at `centres`, each facing `facing` turned by up to
+// `tilt` radians at random, coloured by hash into six materials: one mesh per colour, turning
+// about the vertical axis once every 8 s if `spinning`.
+void add_emitter_field(SceneBuilder& b, const std::vector<Vec3>& centres,
+                       const std::vector<Vec3>& facing, float size, float tilt,
+                       const int (&mats)[6], const std::string& name, bool spinning = false) {
+    Mesh groups[6];
+    for (std::size_t i = 0; i < centres.size(); ++i) {
+        const auto h = [&](uint32_t salt) {
+            return float(hash_words({uint32_t(i), salt, uint32_t(centres.size())}) & 0xffff) /
+                   65535.0f;
+        };
+        const Vec3 n0 = glm::normalize(facing[i]);
+        const Vec3 t =
+            glm::normalize(glm::cross(n0, std::abs(n0.y) < 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0)));
+        const Vec3 n = glm::normalize(glm::angleAxis(tilt * h(1), t) *
+                                      (glm::angleAxis(2.0f * kPi * h(2), n0) * n0));
+        const Vec3 u = glm::normalize(glm::cross(n, t)), v = glm::cross(n, u);
+        Mesh& m = groups[hash_words({uint32_t(i), 9u}) % 6];
+        const auto base = uint32_t(m.positions.size());
+        const float a = 2.0f * kPi * h(3);
+        for (int k = 0; k < 3; ++k) {  // counter-clockwise seen from n
+            const float phi = a + 2.0f * kPi * float(k) / 3.0f;
+            m.positions.push_back(centres[i] +
+                                  0.6f * size * (std::cos(phi) * u + std::sin(phi) * v));
+            m.indices.push_back(base + uint32_t(k));
+        }
+    }
+    for (int c = 0; c < 6; ++c) {
+        if (groups[c].positions.empty()) continue;
+        groups[c].material = mats[c];
+        const int mesh = b.add_mesh(std::move(groups[c]));
+        if (spinning)
+            b.add_spin(b.add_animatable_instance(mesh, Vec3(0.0f), glm::quat(1, 0, 0, 0), name),
+                       Vec3(0, 1, 0), 8.0f, name + "-" + std::to_string(c));
+        else
+            b.add_instance(mesh, Mat4(1.0f), -1, name);
+    }
+}
+
+// A grid of emitters on the plane through `corner` spanned by `u` and `v`, facing `n`.
+void add_emitter_wall(std::vector<Vec3>& centres, std::vector<Vec3>& facing, const Vec3& corner,
+                      const Vec3& u, const Vec3& v, int nu, int nv, const Vec3& n) {
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            centres.push_back(corner + u * ((float(i) + 0.5f) / float(nu)) +
+                              v * ((float(j) + 0.5f) / float(nv)));
+            facing.push_back(n);
+        }
+}
+
+}  // namespace
+
+SceneModel make_light_field_scene() {
+    SceneBuilder b("builtin:light-field");
+    const int walls = b.add_material(make_lambert("walls", Rgb(0.55f)));
+    const int floor = b.add_material(make_lambert("floor", Rgb(0.35f)));
+    Material gold = make_lambert("gold", Rgb(1.0f, 0.78f, 0.34f));
+    gold.metallic_factor = 1.0f;
+    gold.roughness_factor = 0.35f;
+    const int gold_mat = b.add_material(gold);
+    int mats[6], two_sided[6];
+    const Rgb colours[6] = {{1.0f, 0.3f, 0.2f}, {0.2f, 1.0f, 0.3f}, {0.3f, 0.4f, 1.0f},
+                            {1.0f, 0.9f, 0.4f}, {0.9f, 0.3f, 1.0f}, {1.0f, 1.0f, 1.0f}};
+    for (int c = 0; c < 6; ++c)
+        mats[c] = b.add_material(
+            make_emitter("led-" + std::to_string(c), colours[c] * (1.0f + 3.0f * float(c))));
+    for (int c = 0; c < 6; ++c)
+        two_sided[c] =
+            b.add_material(make_emitter("firefly-" + std::to_string(c), colours[c] * 4.0f, true));
+    add_box_room(b, walls, floor);
+    std::vector<Vec3> centres, facing;  // ceiling 48 x 48, three walls 48 x 32
+    add_emitter_wall(centres, facing, {-1.9f, 2.97f, -1.9f}, {3.8f, 0, 0}, {0, 0, 3.8f}, 48, 48,
+                     {0, -1, 0});
+    add_emitter_wall(centres, facing, {-1.9f, 1.0f, -1.97f}, {3.8f, 0, 0}, {0, 1.9f, 0}, 48, 32,
+                     {0, 0, 1});
+    add_emitter_wall(centres, facing, {-1.97f, 1.0f, -1.9f}, {0, 0, 3.8f}, {0, 1.9f, 0}, 48, 32,
+                     {1, 0, 0});
+    add_emitter_wall(centres, facing, {1.97f, 1.0f, -1.9f}, {0, 0, 3.8f}, {0, 1.9f, 0}, 48, 32,
+                     {-1, 0, 0});
+    add_emitter_field(b, centres, facing, 0.03f, 0.6f, mats, "led-walls");
+    // 2 000 on a turning ring, facing out and down; 1 000 two-sided "fireflies" in the air.
+    std::vector<Vec3> ring, out;
+    for (int i = 0; i < 2000; ++i) {
+        const float a = 2.0f * kPi * float(i) / 2000.0f;
+        const float y = 2.2f + 0.15f * float(i % 5);
+        ring.push_back({0.8f * std::cos(a), y, 0.8f * std::sin(a)});
+        out.push_back({std::cos(a), -0.5f, std::sin(a)});
+    }
+    add_emitter_field(b, ring, out, 0.03f, 0.3f, mats, "ring", true);
+    std::vector<Vec3> flies, any;
+    for (uint32_t i = 0; i < 1000; ++i) {
+        const auto h = [&](uint32_t salt) {
+            return float(hash_words({i, salt, 4242u}) & 0xffff) / 65535.0f;
+        };
+        flies.push_back({-1.8f + 3.6f * h(1), 1.2f + 1.5f * h(2), -1.8f + 3.6f * h(3)});
+        any.push_back({h(4) - 0.5f, h(5) - 0.5f, h(6) - 0.5f + 1e-3f});
+    }
+    add_emitter_field(b, flies, any, 0.02f, 0.0f, two_sided, "fireflies");
+    b.add_instance(
+        b.add_mesh(make_unit_cube(walls)),
+        compose_trs({-0.6f, 0.45f, -0.7f}, glm::angleAxis(0.5f, Vec3(0, 1, 0)), Vec3(0.9f)), -1,
+        "block");
+    b.add_instance(b.add_mesh(make_sphere(0.4f, 32, 64, gold_mat)),
+                   glm::translate(Mat4(1.0f), Vec3(0.7f, 0.4f, -0.5f)), -1, "gold-ball");
     b.add_camera(room_camera());
     b.environment().sky = SkyMode::off;
     return b.finish();

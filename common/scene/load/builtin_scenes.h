@@ -18,6 +18,7 @@ SceneModel make_default_scene();
 // lit by 1024 small emissive quads (bench/time_vs_error.py).
 SceneModel make_glass_scene();
 SceneModel make_many_lights_scene();
+SceneModel make_light_field_scene();
 SceneModel make_sealed_lights_scene();
 // The default scene's door node transform, swung open by `open_radians` about its hinge.
 Mat4 default_scene_door_transform(float open_radians);

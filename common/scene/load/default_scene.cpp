@@ -166,7 +166,7 @@ SceneModel make_default_scene() {
 }
 
 std::vector<std::string> builtin_scene_names() {
-    return {"cornell", "default", "glass", "many-lights", "sealed-lights"};
+    return {"cornell", "default", "glass", "many-lights", "light-field", "sealed-lights"};
 }
 
 Result<SceneModel> make_builtin_scene(const std::string& name) {
@@ -174,10 +174,11 @@ Result<SceneModel> make_builtin_scene(const std::string& name) {
     if (name == "default") return make_default_scene();
     if (name == "glass") return make_glass_scene();
     if (name == "many-lights") return make_many_lights_scene();
+    if (name == "light-field") return make_light_field_scene();
     if (name == "sealed-lights") return make_sealed_lights_scene();
     return make_error(ErrorCode::not_found,
                       "builtin:{}: no such built-in scene (known: cornell, default, glass, "
-                      "many-lights, sealed-lights)",
+                      "many-lights, light-field, sealed-lights)",
                       name);
 }
 

@@ -16,6 +16,11 @@ public:
     int add_texture(Texture t);
     // A node with one mesh; parent -1 for a root.
     int add_instance(int mesh, const Mat4& local, int parent = -1, std::string name = {});
+    // A root node placed by translation and rotation (TRS), which animation can drive.
+    int add_animatable_instance(int mesh, const Vec3& translation, const glm::quat& rotation,
+                                std::string name = {});
+    // Turns node `node` about `axis` once every `seconds_per_turn` (a clip of its own).
+    void add_spin(int node, const Vec3& axis, float seconds_per_turn, std::string clip_name);
     int add_camera(const Camera& camera);
     Environment& environment() { return scene_.environment; }
 

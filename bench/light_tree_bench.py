@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Many-light sampling (issue: light tree): time to a relative MSE of 1e-2 and 1e-3, the light
+tree against choosing emitters by power, alternated in one run.
+
+Scenes: builtin:many-lights (2 048 emissive triangles on a ceiling) and builtin:light-field
+(9 912 small emitters of six colours facing every way). For each, pathfarm-render renders at
+doubling spp with each sampler in turn (A, B, A, B ... at each spp, --rounds times; the median
+seconds of a point is kept) against a cached 4096-spp reference, and the time at which each
+sampler's relative MSE crosses a target comes from log-log interpolation (time_vs_error.py's).
+
+Writes bench/results/light_tree_bench.csv (every point), light_tree_time_to_error.csv (per
+scene and target: seconds for each sampler and their ratio) and light_tree_bench.png.
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+
+from bench_common import ROOT, write_csv
+from bench_common import run as run_tool
+from time_vs_error import crossing
+
+SCENES = [("many-lights", "builtin:many-lights"), ("light-field", "builtin:light-field")]
+SAMPLERS = ["power", "tree"]
+TARGETS = [1e-2, 1e-3]
+
+
+def render(a, scene, extra):
+    out = run_tool([a.render, "--scene", scene, "--width", str(a.width), "--height", str(a.height),
+                    "--log-level", "error", *extra], "light_tree_bench")
+    line = [l for l in out.splitlines() if "seconds=" in l][-1]
+    return {k: float(v) for k, v in re.findall(r"(\w+)=([0-9.eE+-]+)", line)}
+
+
+def reference(a, name, scene):
+    os.makedirs(a.cache, exist_ok=True)
+    path = os.path.join(a.cache, f"ref_{name}_{a.width}x{a.height}.pfm")
+    if not os.path.exists(path):
+        print(f"light_tree_bench: reference {name} ({a.ref_spp} spp, tree)...", flush=True)
+        render(a, scene, ["--spp", str(a.ref_spp), "--seed", "424242", "--light-sampler", "tree",
+                          "--out", path])
+    return path
+
+
+def measure(a, name, scene, ref):
+    """Rows (scene, sampler, spp, seconds, rel_mse, efficiency) for every spp and sampler."""
+    rows = []
+    for spp in a.spp:
+        seconds = {s: [] for s in SAMPLERS}
+        rel = {}
+        for _ in range(a.rounds):
+            for s in SAMPLERS:  # alternated: A B A B
+                r = render(a, scene, ["--spp", str(spp), "--seed", "5", "--light-sampler", s,
+                                      "--reference", ref, "--out", os.path.join(a.work, "o.pfm")])
+                seconds[s].append(r["seconds"])
+                rel[s] = r["rel_mse"]  # same seed: the same image every round
+        for s in SAMPLERS:
+            t = statistics.median(seconds[s])
+            rows.append([name, s, spp, round(t, 4), rel[s], round(1.0 / (rel[s] * t), 3)])
+            print(",".join(map(str, rows[-1])), flush=True)
+    return rows
+
+
+def plot(a, rows_csv, png):
+    subprocess.run(["gnuplot"], input=f"""
+set datafile separator ','
+set terminal pngcairo size 1100,480
+set output '{png}'
+set multiplot layout 1,2 title 'Light tree vs power sampling ({a.width}x{a.height}, relative MSE against {a.ref_spp} spp)'
+set logscale xy
+set xlabel 'render seconds'
+set ylabel 'relative MSE'
+set grid
+set key bottom left
+do for [sc in "{' '.join(n for n, _ in SCENES)}"] {{
+  set title sc
+  plot for [s in "{' '.join(SAMPLERS)}"] \\
+       '< grep "^'.sc.','.s.'," {rows_csv}' using 4:5 with linespoints title s, \\
+       1e-2 with lines dt 2 lc rgb 'gray' title '1e-2', 1e-3 with lines dt 3 lc rgb 'gray' title '1e-3'
+}}
+unset multiplot
+""", text=True, check=True)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--build", default=os.path.join(ROOT, "build", "ci"))
+    p.add_argument("--width", type=int, default=160)
+    p.add_argument("--height", type=int, default=90)
+    p.add_argument("--ref-spp", type=int, default=4096)
+    p.add_argument("--spp", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128, 256])
+    p.add_argument("--rounds", type=int, default=3)
+    p.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    p.add_argument("--cache", default=os.path.join(ROOT, "bench", "cache", "light_tree"))
+    a = p.parse_args()
+    a.render = os.path.join(a.build, "tools", "pathfarm-render")
+    a.work = os.path.join(a.cache, "work")
+    os.makedirs(a.work, exist_ok=True)
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    for name, scene in SCENES:
+        rows += measure(a, name, scene, reference(a, name, scene))
+    rows_csv = os.path.join(a.out, "light_tree_bench.csv")
+    write_csv(rows_csv, ["scene", "sampler", "spp", "seconds", "rel_mse", "efficiency"], rows)
+    summary = []
+    for name, _ in SCENES:
+        for target in TARGETS:
+            t = {s: crossing([(r[3], r[4]) for r in rows if r[0] == name and r[1] == s], target)
+                 for s in SAMPLERS}
+            ratio = t["tree"] / t["power"] if t["tree"] and t["power"] else ""
+            summary.append([name, target, t["power"] or "never", t["tree"] or "never",
+                            round(ratio, 3) if ratio != "" else ""])
+            print(f"{name}: relMSE {target:g}: power {t['power']} s, tree {t['tree']} s, ratio {ratio}")
+    write_csv(os.path.join(a.out, "light_tree_time_to_error.csv"),
+              ["scene", "target_rel_mse", "power_seconds", "tree_seconds", "tree_over_power"], summary)
+    plot(a, rows_csv, os.path.join(a.out, "light_tree_bench.png"))
+
+
+if __name__ == "__main__":
+    main()
