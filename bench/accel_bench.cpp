@@ -4,7 +4,7 @@
 //   triangles, top-level rebuild for 1k and 10k instances, and the per-frame update of a large
 //   static scene plus one skinned model next to that skinned model alone; and the tracers'
 //   closed-surface analysis for light culling (SealedEmitters) on Sponza and two built-ins;
-//   the light tree over builtin:light-field's 9 912 emitters: build, refit after its ring
+//   the light tree over builtin:light-field's 9 892 emitters: build, refit after its ring
 //   turned, and the whole light sampler built or refitted (issue: many lights).
 #include <algorithm>
 #include <cstdio>

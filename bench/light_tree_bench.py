@@ -3,7 +3,7 @@
 tree against choosing emitters by power, alternated in one run.
 
 Scenes: builtin:many-lights (2 048 emissive triangles on a ceiling) and builtin:light-field
-(9 912 small emitters of six colours facing every way). For each, pathfarm-render renders at
+(9 892 small emitters of six colours over the ceiling and upper walls, 2 000 on a turning ring). For each, pathfarm-render renders at
 doubling spp with each sampler in turn (A, B, A, B ... at each spp, --rounds times; the median
 seconds of a point is kept) against a cached 4096-spp reference, and the time at which each
 sampler's relative MSE crosses a target comes from log-log interpolation (time_vs_error.py's).

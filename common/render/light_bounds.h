@@ -83,7 +83,7 @@ inline float importance(const PackedLightBounds& b, const Vec3& p, const Vec3& n
     float result = b.power * cos_x / std::max({dist2, b.radius2, 1e-20f});
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {  // the receiver's best cosine
         const float cos_i = std::abs(glm::dot(to_p, n)) * inv_dist;
-        result *= cos_subtract_clamped(cos_i, safe_sqrt(1.0f - cos_i * cos_i), cos_b, sin_b);
+        if (cos_i < cos_b) result *= cos_i * cos_b + safe_sqrt(1.0f - cos_i * cos_i) * sin_b;
     }
     return std::isfinite(result) ? result : 0.0f;
 }

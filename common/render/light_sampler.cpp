@@ -74,7 +74,7 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
 
 void LightSampler::make_tree(const std::vector<LightBounds>& bounds, LightSampler* previous) {
     const bool same_emitters =
-        previous && previous->selection_ == LightSelection::tree &&
+        previous && previous->selection_ == LightSelection::tree && !previous->tree_.empty() &&
         previous->triangles_.size() == triangles_.size() &&
         std::equal(triangles_.begin(), triangles_.end(), previous->triangles_.begin(),
                    [](const EmissiveTriangle& a, const EmissiveTriangle& b) {

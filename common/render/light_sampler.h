@@ -34,7 +34,8 @@ public:
     // emitters that cannot contribute (SealedEmitters).
     // `previous`: the sampler of the scene's last state. When the same emitters are lit (only
     // moved, turned or deformed), its light tree is refitted rather than built anew, unless
-    // the refit has degraded its cost by more than kRefitCostLimit since its last build.
+    // the refit has degraded its cost by more than kRefitCostLimit since its last build. The
+    // tree is taken from `previous` (which keeps its emitter list only).
     explicit LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded = {},
                           LightSelection selection = LightSelection::power,
                           LightSampler* previous = nullptr);
@@ -67,6 +68,10 @@ public:
     LightSelection selection() const { return selection_; }
     const LightTree& tree() const { return tree_; }        // empty unless selection() is tree
     bool tree_refitted() const { return tree_refitted_; }  // reused from `previous`
+    // The tree's cost over its cost when last built (1 for a fresh build).
+    double tree_cost_ratio() const {
+        return tree_built_cost_ > 0.0 ? tree_.cost() / tree_built_cost_ : 1.0;
+    }
     float environment_probability() const { return p_environment_; }
     const SunSky* sun_sky() const { return sun_sky_.get(); }
     // Index of the instance's first triangle in triangles(), or -1 if it emits nothing.

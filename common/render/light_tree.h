@@ -60,7 +60,7 @@ public:
     // Below a node whose bounding sphere subtends less than this (sin^2 of the half-angle) and
     // whose normals lie within acos(kDistantCos), children are chosen by power: their
     // importance would differ by little more than their power (measured: docs/rendering.md).
-    static constexpr float kDistantSin2 = 0.02f, kDistantCos = 0.9f;
+    static constexpr float kDistantSin2 = 0.02f, kDistantCos = 0.0f;
 
 private:
     bool distant(uint32_t node, const Vec3& p) const;

@@ -143,7 +143,7 @@ typedef struct {
 #define PF_LIGHT_LEAF 2u       // LightTree::kLeaf
 // LightTree's distant-node switch to choosing by power.
 #define PF_LIGHT_DISTANT_SIN2 0.02f
-#define PF_LIGHT_DISTANT_COS 0.9f
+#define PF_LIGHT_DISTANT_COS 0.0f
 
 // Scene-wide values: the sun/sky (SunSkyParams) and the light selection.
 typedef struct {

@@ -90,8 +90,7 @@ float pf_light_importance(__global const PfLightNode* b, float3 p, float3 n) {
     float result = b->power * cos_x / fmax(fmax(dist2, b->radius2), 1e-20f);
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
         const float cos_i = fabs(dot(to_p, n)) * inv_dist;
-        result *= pf_cos_subtract_clamped(cos_i, sqrt(fmax(0.0f, 1.0f - cos_i * cos_i)), cos_b,
-                                          sin_b);
+        if (cos_i < cos_b) result *= cos_i * cos_b + sqrt(fmax(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
     }
     return isfinite(result) ? result : 0.0f;
 }
