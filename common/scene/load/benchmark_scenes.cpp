@@ -185,6 +185,19 @@ void add_emitter_wall(std::vector<Vec3>& centres, std::vector<Vec3>& facing, con
         }
 }
 
+// 1 300 two-sided "fireflies" in the air under the ceiling, turned every way.
+void add_fireflies(SceneBuilder& b, const int (&two_sided)[6]) {
+    std::vector<Vec3> flies, any;
+    for (uint32_t i = 0; i < 1300; ++i) {
+        const auto h = [&](uint32_t salt) {
+            return float(hash_words({i, salt, 4242u}) & 0xffff) / 65535.0f;
+        };
+        flies.push_back({-1.8f + 3.6f * h(1), 2.0f + 0.8f * h(2), -1.8f + 3.6f * h(3)});
+        any.push_back({h(4) - 0.5f, h(5) - 0.5f, h(6) - 0.5f + 1e-3f});
+    }
+    add_emitter_field(b, flies, any, 0.02f, 0.0f, two_sided, "fireflies");
+}
+
 }  // namespace
 
 SceneModel make_light_field_scene() {
@@ -227,15 +240,7 @@ SceneModel make_light_field_scene() {
         out.push_back({std::cos(a), -0.5f, std::sin(a)});
     }
     add_emitter_field(b, ring, out, 0.03f, 0.3f, mats, "ring", true);
-    std::vector<Vec3> flies, any;
-    for (uint32_t i = 0; i < 1300; ++i) {
-        const auto h = [&](uint32_t salt) {
-            return float(hash_words({i, salt, 4242u}) & 0xffff) / 65535.0f;
-        };
-        flies.push_back({-1.8f + 3.6f * h(1), 2.0f + 0.8f * h(2), -1.8f + 3.6f * h(3)});
-        any.push_back({h(4) - 0.5f, h(5) - 0.5f, h(6) - 0.5f + 1e-3f});
-    }
-    add_emitter_field(b, flies, any, 0.02f, 0.0f, two_sided, "fireflies");
+    add_fireflies(b, two_sided);
     b.add_instance(
         b.add_mesh(make_unit_cube(walls)),
         compose_trs({-0.6f, 0.45f, -0.7f}, glm::angleAxis(0.5f, Vec3(0, 1, 0)), Vec3(0.9f)), -1,
