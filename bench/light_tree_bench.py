@@ -10,6 +10,10 @@ sampler's relative MSE crosses a target comes from log-log interpolation (time_v
 
 Writes bench/results/light_tree_bench.csv (every point), light_tree_time_to_error.csv (per
 scene and target: seconds for each sampler and their ratio) and light_tree_bench.png.
+
+--all-scenes: every scene of bench/time_vs_error.py at equal spp, samplers alternated, median
+seconds: the tree's time at equal error relative to power's, (t_tree rel_tree) / (t_power
+rel_power) since the error falls as 1/time; light_tree_scenes.csv. The issue allows 1.03.
 """
 import argparse
 import os
@@ -19,7 +23,8 @@ import subprocess
 
 from bench_common import ROOT, write_csv
 from bench_common import run as run_tool
-from time_vs_error import crossing
+from time_vs_error import FULL_SCENES, crossing
+from bench_common import SCENES as SCENE_DIR
 
 SCENES = [("many-lights", "builtin:many-lights"), ("light-field", "builtin:light-field")]
 SAMPLERS = ["power", "tree"]
@@ -83,6 +88,32 @@ unset multiplot
 """, text=True, check=True)
 
 
+def all_scenes(a):
+    rows = []
+    for name, spec in FULL_SCENES:
+        scene = spec.format(scenes=SCENE_DIR)
+        ref = os.path.join(a.cache, f"check_{name}_{a.width}x{a.height}.pfm")
+        if not os.path.exists(ref):
+            print(f"light_tree_bench: reference {name} (1024 spp)...", flush=True)
+            render(a, scene, ["--spp", "1024", "--seed", "987654", "--out", ref])
+        seconds = {s: [] for s in SAMPLERS}
+        rel = {}
+        for _ in range(a.rounds):
+            for s in SAMPLERS:
+                r = render(a, scene, ["--spp", "16", "--seed", "5", "--light-sampler", s,
+                                      "--reference", ref, "--out", os.path.join(a.work, "o.pfm")])
+                seconds[s].append(r["seconds"])
+                rel[s] = r["rel_mse"]
+        t = {s: statistics.median(seconds[s]) for s in SAMPLERS}
+        ratio = (t["tree"] * rel["tree"]) / (t["power"] * rel["power"])
+        rows.append([name, round(t["power"], 4), rel["power"], round(t["tree"], 4), rel["tree"],
+                     round(ratio, 3)])
+        print(",".join(map(str, rows[-1])), flush=True)
+    write_csv(os.path.join(a.out, "light_tree_scenes.csv"),
+              ["scene", "power_seconds", "power_rel_mse", "tree_seconds", "tree_rel_mse",
+               "tree_time_at_equal_error"], rows)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default=os.path.join(ROOT, "build", "ci"))
@@ -93,11 +124,14 @@ def main():
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     p.add_argument("--cache", default=os.path.join(ROOT, "bench", "cache", "light_tree"))
+    p.add_argument("--all-scenes", action="store_true")
     a = p.parse_args()
     a.render = os.path.join(a.build, "tools", "pathfarm-render")
     a.work = os.path.join(a.cache, "work")
     os.makedirs(a.work, exist_ok=True)
     os.makedirs(a.out, exist_ok=True)
+    if a.all_scenes:
+        return all_scenes(a)
     rows = []
     for name, scene in SCENES:
         rows += measure(a, name, scene, reference(a, name, scene))

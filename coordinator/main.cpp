@@ -93,7 +93,7 @@ struct Command {
     double export_at = 0.0, fps = 30.0;
     int frames = -1;
     bool offline_mode = false, no_converge = false;
-    std::string denoise = "on", light_sampler = "power";
+    std::string denoise = "on", light_sampler = "tree";
     pathfarm::coord::OfflineOptions o;
     pathfarm::coord::FarmOptions f;
     CLI::Option* tracer_port = nullptr;

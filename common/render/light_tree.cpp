@@ -244,7 +244,10 @@ float LightTree::first_child_probability(uint32_t i, const Vec3& p, const Vec3& 
 }
 
 std::optional<LightTree::Choice> LightTree::sample(const Vec3& p, const Vec3& n, float u) const {
-    if (nodes_.empty() || !(importance(nodes_[0].bounds, p, n) > 0.0f)) return std::nullopt;
+    // No test of the root's own importance: where it is zero the descent goes by power, and
+    // the chosen emitter's zero radiance ends the sample before any ray (cheaper than one
+    // more importance per sample in scenes of one light).
+    if (nodes_.empty()) return std::nullopt;
     uint32_t i = 0;
     float pmf = 1.0f;
     bool by_power = distant(0, p);
@@ -266,7 +269,7 @@ std::optional<LightTree::Choice> LightTree::sample(const Vec3& p, const Vec3& n,
 }
 
 float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t emitter) const {
-    if (emitter >= trail_.size() || !(importance(nodes_[0].bounds, p, n) > 0.0f)) return 0.0f;
+    if (emitter >= trail_.size()) return 0.0f;
     const uint64_t trail = trail_[emitter];
     uint32_t i = 0;
     float pmf = 1.0f;

@@ -43,8 +43,8 @@ public:
         uint32_t emitter;
         float pmf;
     };
-    // Chooses an emitter for a receiver at p with normal n (zero: none). Empty when no emitter
-    // can light p.
+    // Chooses an emitter for a receiver at p with normal n (zero: none). Empty only when no
+    // emitter has power; the probabilities of all emitters sum to one.
     std::optional<Choice> sample(const Vec3& p, const Vec3& n, float u) const;
     // The probability sample() chooses `emitter` at (p, n).
     float pmf(const Vec3& p, const Vec3& n, uint32_t emitter) const;

@@ -31,8 +31,9 @@ struct IntegratorSettings {
     // Do not sample emitters a closed opaque surface separates from the camera
     // (SealedEmitters); false samples every emitter, for measuring what culling saves.
     bool cull_sealed_lights = true;
-    // How next-event estimation chooses an emissive triangle (docs/rendering.md, "Many lights").
-    LightSelection light_selection = LightSelection::power;
+    // How next-event estimation chooses an emissive triangle (docs/rendering.md, "Lights"): the
+    // tree by default, measured the better (bench/light_tree_bench.py).
+    LightSelection light_selection = LightSelection::tree;
 };
 
 // What a scene needs of the path-tracing loop. A loop instantiated without a feature leaves

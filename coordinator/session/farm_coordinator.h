@@ -39,7 +39,7 @@ struct FarmOptions {
     // The SVGF-style denoiser (coordinator/converge/denoiser.h): temporal with converging,
     // each frame alone without.
     bool denoise = true;
-    bool light_tree = false;  // --light-sampler tree|power (IntegratorSettings::light_selection)
+    bool light_tree = true;  // --light-sampler tree|power (IntegratorSettings::light_selection)
     bool fixed_spp = false;
     double target_fps = 0.0;                           // frame rate to hold; 0: `fps`
     float min_rr_scale = 0.5f, min_resolution = 0.5f;  // workload scaling's quality floor

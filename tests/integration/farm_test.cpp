@@ -64,17 +64,18 @@ TEST_P(FarmDeterminism, FramesEqualPathfarmRenderBitForBit) {
 INSTANTIATE_TEST_SUITE_P(Tracers, FarmDeterminism, ::testing::Values(1, 2, 3));
 
 // The coordinator's --light-sampler reaches the tracers (FrameAssignment.light_tree): the farm's
-// frame equals pathfarm-render's with the same sampler, and differs from the other sampler's.
+// frame equals pathfarm-render's with the same sampler, and differs from the other sampler's
+// (the default, the tree, is what the determinism tests above run).
 TEST(FarmLightSampler, TheCoordinatorsChoiceReachesTheTracers) {
     Farm farm;
-    farm.start({"--frames", "1", "--light-sampler", "tree"});
+    farm.start({"--frames", "1", "--light-sampler", "power"});
     farm.add_tracer("t", {"--max-reconnects", "0"});
     ASSERT_EQ(farm.finish(), 0);
-    const std::string power = farm.reference(0);
-    std::rename(power.c_str(), (farm.dir + "/power.pfm").c_str());
-    farm.render_args = {"--light-sampler", "tree"};
+    const std::string tree = farm.reference(0);
+    std::rename(tree.c_str(), (farm.dir + "/tree.pfm").c_str());
+    farm.render_args = {"--light-sampler", "power"};
     EXPECT_TRUE(test::images_identical(farm.frame(0), farm.reference(0)));
-    EXPECT_FALSE(test::images_identical(farm.frame(0), farm.dir + "/power.pfm"));
+    EXPECT_FALSE(test::images_identical(farm.frame(0), farm.dir + "/tree.pfm"));
 }
 
 // A file without a camera is framed from its bounds by the coordinator exactly as

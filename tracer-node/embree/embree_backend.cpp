@@ -45,7 +45,6 @@ public:
 
     Status set_scene(const SceneModel& scene) override {
         lights_.reset();
-        previous_lights_.reset();
         shading_.reset();
         kernel_.reset();
         const Timer timer;
@@ -87,10 +86,11 @@ public:
         if (!culled_changed && lights_ && lights_->selection() == job.integrator.light_selection)
             return;
         const std::vector<bool>& excluded = culling_.excluded();
-        // The last scene state's sampler lends its light tree for a refit (LightSampler).
-        lights_ = std::make_unique<LightSampler>(
-            *shading_, excluded, job.integrator.light_selection, previous_lights_.get());
-        previous_lights_.reset();
+        // Built from this scene state alone, never refitted from the last one: a refitted tree
+        // samples differently from a fresh one, and every tracer (one that joined late too)
+        // must render a frame's rows bit for bit alike (docs/determinism.md).
+        lights_ =
+            std::make_unique<LightSampler>(*shading_, excluded, job.integrator.light_selection);
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",
@@ -174,7 +174,7 @@ private:
     // when only the camera moved), the light sampler rebuilt at the next render.
     void adopt(const SceneModel& scene) {
         adopted_ = &scene;
-        if (lights_) previous_lights_ = std::move(lights_);
+        lights_.reset();
         shading_ = std::make_unique<ShadingScene>(scene);
         culling_.set_scene(scene);
     }
@@ -185,9 +185,6 @@ private:
     std::unique_ptr<ShadingScene> shading_;
     LightCulling culling_;
     std::unique_ptr<LightSampler> lights_;
-    // The sampler of the scene as it was, until the next one takes its tree over. Its
-    // ShadingScene is gone: only its tree and emitter list are read.
-    std::unique_ptr<LightSampler> previous_lights_;
     const SceneModel* adopted_ = nullptr;  // the model shading_ refers to
 };
 

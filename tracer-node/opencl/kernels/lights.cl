@@ -114,7 +114,6 @@ float pf_first_child_probability(const PfScene* s, uint i, float3 p, float3 n, b
 
 bool pf_light_tree_sample(const PfScene* s, float3 p, float3 n, float u, uint* emitter,
                           float* pmf_out) {
-    if (!(pf_light_importance(&s->light_nodes[0], p, n) > 0.0f)) return false;
     uint i = 0;
     float pmf = 1.0f;
     bool by_power = pf_light_distant(&s->light_nodes[0], p);
@@ -138,7 +137,6 @@ bool pf_light_tree_sample(const PfScene* s, float3 p, float3 n, float u, uint* e
 }
 
 float pf_light_tree_pmf(const PfScene* s, float3 p, float3 n, uint emitter) {
-    if (!(pf_light_importance(&s->light_nodes[0], p, n) > 0.0f)) return 0.0f;
     __global const PfLight* light = &s->lights[emitter];
     uint i = 0;
     float pmf = 1.0f;
