@@ -17,25 +17,16 @@ rel_power) since the error falls as 1/time; light_tree_scenes.csv. The issue all
 """
 import argparse
 import os
-import re
 import statistics
 import subprocess
 
 from bench_common import ROOT, write_csv
-from bench_common import run as run_tool
-from time_vs_error import FULL_SCENES, crossing
+from time_vs_error import FULL_SCENES, crossing, render  # render: pathfarm-render's figures
 from bench_common import SCENES as SCENE_DIR
 
 SCENES = [("many-lights", "builtin:many-lights"), ("light-field", "builtin:light-field")]
 SAMPLERS = ["power", "tree"]
 TARGETS = [1e-2, 1e-3]
-
-
-def render(a, scene, extra):
-    out = run_tool([a.render, "--scene", scene, "--width", str(a.width), "--height", str(a.height),
-                    "--log-level", "error", *extra], "light_tree_bench")
-    line = [l for l in out.splitlines() if "seconds=" in l][-1]
-    return {k: float(v) for k, v in re.findall(r"(\w+)=([0-9.eE+-]+)", line)}
 
 
 def reference(a, name, scene):
