@@ -82,10 +82,6 @@ PackedLightBounds pack(const LightBounds& b) {
     return packed;
 }
 
-float importance(const LightBounds& b, const Vec3& p, const Vec3& n) {
-    return importance(pack(b), p, n);
-}
-
 LightBounds triangle_light_bounds(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& front,
                                   float power, bool two_sided) {
     LightBounds b;

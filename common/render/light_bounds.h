@@ -43,9 +43,6 @@ struct PackedLightBounds {
 inline constexpr uint32_t kPackedTwoSided = 1;
 PackedLightBounds pack(const LightBounds& b);
 
-// n: the receiver's normal; zero for none (then no receiver cosine is applied).
-float importance(const LightBounds& b, const Vec3& p, const Vec3& n);
-
 namespace detail {
 inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 // cos(max(0, a - b)) from the cosines and sines of a and b, both in [0, pi].
@@ -54,7 +51,8 @@ inline float cos_subtract_clamped(float cos_a, float sin_a, float cos_b, float s
 }
 }  // namespace detail
 
-// The importance bound itself, inline: a light tree evaluates it twice per level.
+// The importance bound itself, inline: a light tree evaluates it twice per level. n: the
+// receiver's normal; zero for none (then no receiver cosine is applied).
 inline float importance(const PackedLightBounds& b, const Vec3& p, const Vec3& n) {
     using detail::cos_subtract_clamped, detail::safe_sqrt;
     if (!(b.power > 0.0f)) return 0.0f;

@@ -228,9 +228,9 @@ bool LightTree::distant(uint32_t i, const Vec3& p) const {
 }
 
 // The probability of the first child of interior node i, or -1 when neither child emits.
-// Where neither child's bound lets it light p although the node's did (the union of two
-// bounds is looser than either), the subtree falls back to choosing by power: then the
-// probabilities of all emitters still sum to one whenever the root's importance is not zero.
+// Where neither child's bound lets it light p (the union of two bounds is looser than either,
+// or nothing there can light p), the subtree falls back to choosing by power, so the
+// probabilities of all emitters always sum to one.
 float LightTree::first_child_probability(uint32_t i, const Vec3& p, const Vec3& n,
                                          bool& by_power) const {
     const PackedLightBounds &a = nodes_[i + 1].bounds,
