@@ -20,17 +20,20 @@ namespace pathfarm {
 class LightTree {
 public:
     // The layout the OpenCL kernel reads too (device_types.h mirrors it): an interior node's
-    // first child is the next node, its second `child_or_emitter`; a leaf holds one emitter.
+    // first child is the next node, its second `child_or_emitter`; a leaf holds one emitter,
+    // or with kPair two consecutive ones that form one flat polygon (a quad light's two
+    // triangles), chosen between by power: their importance would differ by little more.
     struct Node {
-        PackedLightBounds bounds;  // flags: kPackedTwoSided, kLeaf
+        PackedLightBounds bounds;  // flags: kPackedTwoSided, kLeaf, kPair
         uint32_t child_or_emitter;
     };
-    static constexpr uint32_t kLeaf = 2;
+    static constexpr uint32_t kLeaf = 2, kPair = 4;
     bool is_leaf(std::size_t node) const { return (nodes_[node].bounds.flags & kLeaf) != 0; }
     static constexpr int kMaxDepth = 64;
 
     LightTree() = default;
-    // One leaf per emitter, in the order given (pmf() and the sampled index refer to it).
+    // One leaf per emitter or flat pair, in the order given (pmf() and the sampled index refer
+    // to it).
     explicit LightTree(std::span<const LightBounds> emitters);
 
     // New bounds for the same emitters (moved, deformed or switched): the topology stays.
@@ -55,6 +58,8 @@ public:
     // Per emitter, the path from the root: bit d set = the second child at depth d.
     const std::vector<uint64_t>& trails() const { return trail_; }
     const std::vector<uint8_t>& depths() const { return depth_; }
+    // Per emitter, the probability of choosing it once its leaf is chosen (1 unless paired).
+    const std::vector<float>& leaf_shares() const { return share_; }
     LightBounds bounds(std::size_t node) const;
 
     // Below a node whose bounding sphere subtends less than this (sin^2 of the half-angle) and
@@ -66,14 +71,18 @@ private:
     bool distant(uint32_t node, const Vec3& p) const;
     float first_child_probability(uint32_t node, const Vec3& p, const Vec3& n,
                                   bool& by_power) const;
-    uint32_t build(std::span<uint32_t> ids, std::span<const LightBounds> emitters,
-                   std::span<const Vec3> centre, int depth, uint64_t trail);
+    struct Units;
+    uint32_t build(std::span<uint32_t> ids, const Units& units, int depth, uint64_t trail);
+    void set_leaf(std::size_t node, std::span<const LightBounds> emitters);
+    // The pair e, e + 1's shares of their leaf, by power.
+    void set_shares(uint32_t e, std::span<const LightBounds> emitters);
     void set_bounds(std::size_t node, const LightBounds& b);
 
     std::vector<Node> nodes_;
     std::vector<LightBounds> full_;  // per node, with the box (for refit and cost)
     std::vector<uint64_t> trail_;
     std::vector<uint8_t> depth_;
+    std::vector<float> share_;
 };
 
 }  // namespace pathfarm

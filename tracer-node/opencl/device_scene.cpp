@@ -38,6 +38,7 @@ static_assert(PF_WRAP_REPEAT == unsigned(WrapMode::repeat) &&
               "WrapMode");
 static_assert(sizeof(PfLightNode) == sizeof(LightTree::Node) &&
                   PF_LIGHT_TWO_SIDED == kPackedTwoSided && PF_LIGHT_LEAF == LightTree::kLeaf &&
+                  PF_LIGHT_PAIR == LightTree::kPair &&
                   PF_LIGHT_DISTANT_SIN2 == LightTree::kDistantSin2 &&
                   PF_LIGHT_DISTANT_COS == LightTree::kDistantCos,
               "PfLightNode mirrors LightTree::Node");
@@ -178,6 +179,7 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
         if (!tree.empty()) {
             l.trail_lo = uint32_t(tree.trails()[k]);
             l.trail_hi = uint32_t(tree.trails()[k] >> 32);
+            l.tree_share = tree.leaf_shares()[k];
         }
         out.lights.push_back(l);
     }

@@ -124,7 +124,7 @@ typedef struct {
     // depth d; bits 0-31 in trail_lo.
     pf_uint trail_lo;
     pf_uint trail_hi;
-    pf_uint pad;
+    float tree_share;  // LightTree::leaf_shares: its probability once its leaf is chosen
 } PfLight;
 
 // A light tree node (LightTree::Node: PackedLightBounds, then the child or emitter).
@@ -141,6 +141,7 @@ typedef struct {
 
 #define PF_LIGHT_TWO_SIDED 1u  // kPackedTwoSided
 #define PF_LIGHT_LEAF 2u       // LightTree::kLeaf
+#define PF_LIGHT_PAIR 4u       // LightTree::kPair
 // LightTree's distant-node switch to choosing by power.
 #define PF_LIGHT_DISTANT_SIN2 0.02f
 #define PF_LIGHT_DISTANT_COS 0.0f

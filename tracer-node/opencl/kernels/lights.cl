@@ -116,7 +116,8 @@ bool pf_light_tree_sample(const PfScene* s, float3 p, float3 n, float u, uint* e
                           float* pmf_out) {
     uint i = 0;
     float pmf = 1.0f;
-    bool by_power = pf_light_distant(&s->light_nodes[0], p);
+    bool by_power = (s->light_nodes[0].flags & PF_LIGHT_LEAF) != 0u ||
+                    pf_light_distant(&s->light_nodes[0], p);
     while ((s->light_nodes[i].flags & PF_LIGHT_LEAF) == 0u) {
         const float p0 = pf_first_child_probability(s, i, p, n, &by_power);
         if (p0 < 0.0f) return false;
@@ -131,16 +132,19 @@ bool pf_light_tree_sample(const PfScene* s, float3 p, float3 n, float u, uint* e
         }
         by_power = by_power || pf_light_distant(&s->light_nodes[i], p);
     }
-    *emitter = s->light_nodes[i].child_or_emitter;
-    *pmf_out = pmf;
+    uint k = s->light_nodes[i].child_or_emitter;
+    if ((s->light_nodes[i].flags & PF_LIGHT_PAIR) != 0u && !(u < s->lights[k].tree_share)) ++k;
+    *emitter = k;
+    *pmf_out = pmf * s->lights[k].tree_share;
     return true;
 }
 
 float pf_light_tree_pmf(const PfScene* s, float3 p, float3 n, uint emitter) {
     __global const PfLight* light = &s->lights[emitter];
     uint i = 0;
-    float pmf = 1.0f;
-    bool by_power = pf_light_distant(&s->light_nodes[0], p);
+    float pmf = light->tree_share;
+    bool by_power = (s->light_nodes[0].flags & PF_LIGHT_LEAF) != 0u ||
+                    pf_light_distant(&s->light_nodes[0], p);
     for (uint d = 0; (s->light_nodes[i].flags & PF_LIGHT_LEAF) == 0u; ++d) {
         const float p0 = pf_first_child_probability(s, i, p, n, &by_power);
         if (p0 < 0.0f) return 0.0f;

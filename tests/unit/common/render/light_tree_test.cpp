@@ -48,8 +48,20 @@ Emitter make_triangle(std::mt19937& rng, const Vec3& centre, const Vec3& normal,
     return e;
 }
 
+// The two triangles of a quad light (centre c, edges along t and b), in either diagonal.
+void add_quad(std::vector<Emitter>& out, const Vec3& c, const Vec3& t, const Vec3& b, float power,
+              bool two_sided, bool flip) {
+    const Vec3 n = glm::normalize(glm::cross(t, b));
+    const Vec3 v[4] = {c - t - b, c + t - b, c + t + b, c - t + b};
+    const int tri[2][3] = {{0, 1, flip ? 3 : 2}, {flip ? 1 : 0, 2, 3}};
+    for (const auto& k : tri)
+        out.push_back(
+            {{v[k[0]], v[k[1]], v[k[2]]}, n, power * (0.5f + 0.25f * float(k[2])), two_sided});
+}
+
 // A random set: scattered triangles of every orientation plus, in half the sets, a ceiling of
-// small panels all facing down.
+// small panels all facing down, and in every third one quad lights of any orientation (a leaf
+// holds both triangles of a quad).
 std::vector<Emitter> random_emitters(uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -67,6 +79,15 @@ std::vector<Emitter> random_emitters(uint32_t seed) {
             const Vec3 c = scale * Vec3(float(i % 16) / 16.0f, 1.0f, float(i / 16) / 16.0f);
             out.push_back(
                 make_triangle(rng, c, Vec3(0, -1, 0), scale * 0.01f, 1.0f + float(i % 7), false));
+        }
+    if (seed % 3 == 0)
+        for (int i = 0; i < 40; ++i) {
+            const Vec3 n = random_direction(rng);
+            const Vec3 t = glm::normalize(glm::cross(n, random_direction(rng)));
+            const float size = scale * 0.2f * u(rng) + 1e-4f;
+            add_quad(out, scale * Vec3(u(rng), u(rng), u(rng)), t * size * (0.2f + u(rng)),
+                     glm::cross(n, t) * size, u(rng) < 0.1f ? 0.0f : 1.0f + u(rng), u(rng) < 0.3f,
+                     u(rng) < 0.5f);
         }
     return out;
 }
@@ -178,7 +199,9 @@ void expect_ancestors_bound(const LightTree& tree, const std::vector<Emitter>& e
                 EXPECT_TRUE(b.two_sided || !own.two_sided);
             }
             if (tree.is_leaf(node)) {
-                ASSERT_EQ(tree.nodes()[node].child_or_emitter, e);
+                const uint32_t held = tree.nodes()[node].child_or_emitter;
+                const bool pair = (tree.nodes()[node].bounds.flags & LightTree::kPair) != 0;
+                ASSERT_TRUE(held == e || (pair && held + 1 == e));
                 ASSERT_EQ(d, tree.depths()[e]);
                 break;
             }
@@ -215,6 +238,33 @@ TEST(LightTree, RefitKeepsEveryEmitterInsideItsAncestors) {
         for (uint32_t e = 0; e < emitters.size(); ++e)
             sum += tree.pmf(p, n, e);
         EXPECT_NEAR(sum, 1.0, 1e-4) << "seed " << seed;
+    }
+}
+
+TEST(LightTree, AQuadLightIsOneLeafChosenByPower) {
+    std::vector<Emitter> one;
+    add_quad(one, Vec3(0, 2, 0), Vec3(0.3f, 0, 0), Vec3(0, 0, 0.2f), 1.0f, false, false);
+    const LightTree tree(bounds_of(one));
+    ASSERT_EQ(tree.nodes().size(), 1u) << "no importance to evaluate under one quad light";
+    const float total = one[0].power + one[1].power;
+    EXPECT_FLOAT_EQ(tree.pmf(Vec3(0.5f), Vec3(0, 1, 0), 0), one[0].power / total);
+    EXPECT_FLOAT_EQ(tree.pmf(Vec3(0.5f), Vec3(0, 1, 0), 1), one[1].power / total);
+    // Every quad of a random set shares a leaf; the ceiling's separate panels never pair.
+    for (uint32_t seed = 3; seed <= 30; seed += 3) {
+        const std::vector<Emitter> emitters = random_emitters(seed);
+        const LightTree mixed(bounds_of(emitters));
+        const std::size_t quads_from = emitters.size() - 80;
+        for (std::size_t e = 0; e < emitters.size(); ++e) {
+            const bool quad = e >= quads_from;
+            const std::size_t partner = quad ? (e - quads_from) % 2 ? e - 1 : e + 1 : e;
+            if (!quad) {
+                EXPECT_EQ(mixed.leaf_shares()[e], 1.0f) << "seed " << seed << " emitter " << e;
+                continue;
+            }
+            EXPECT_EQ(mixed.trails()[e], mixed.trails()[partner]) << "seed " << seed;
+            EXPECT_EQ(mixed.depths()[e], mixed.depths()[partner]) << "seed " << seed;
+            EXPECT_FLOAT_EQ(mixed.leaf_shares()[e] + mixed.leaf_shares()[partner], 1.0f);
+        }
     }
 }
 
