@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Many-light sampling (issue: light tree): time to a relative MSE of 1e-2 and 1e-3, the light
-tree against choosing emitters by power, alternated in one run.
+tree against choosing emitters by power, and the tree with resampled selection (RIS, 2 and 4
+candidates) against the tree alone, alternated in one run.
 
 Scenes: builtin:many-lights (2 048 emissive triangles on a ceiling) and builtin:light-field
 (9 892 small emitters of six colours over the ceiling and upper walls, 2 000 on a turning ring). For each, pathfarm-render renders at
-doubling spp with each sampler in turn (A, B, A, B ... at each spp, --rounds times; the median
+doubling spp with each sampler in turn (A, B, C, D, A, B ... at each spp, --rounds times; the median
 seconds of a point is kept) against a cached 4096-spp reference, and the time at which each
 sampler's relative MSE crosses a target comes from log-log interpolation (time_vs_error.py's).
 
@@ -25,7 +26,15 @@ from time_vs_error import FULL_SCENES, crossing, render  # render: pathfarm-rend
 from bench_common import SCENES as SCENE_DIR
 
 SCENES = [("many-lights", "builtin:many-lights"), ("light-field", "builtin:light-field")]
-SAMPLERS = ["power", "tree"]
+# The samplers compared: emitters by power, the tree, and the tree with resampled selection
+# (RIS) over 2 and 4 candidates per light sample (--light-candidates).
+SAMPLER_ARGS = {
+    "power": ["--light-sampler", "power"],
+    "tree": ["--light-sampler", "tree"],
+    "tree+ris2": ["--light-sampler", "tree", "--light-candidates", "2"],
+    "tree+ris4": ["--light-sampler", "tree", "--light-candidates", "4"],
+}
+SAMPLERS = list(SAMPLER_ARGS)
 TARGETS = [1e-2, 1e-3]
 
 
@@ -47,7 +56,7 @@ def measure(a, name, scene, ref):
         rel = {}
         for _ in range(a.rounds):
             for s in SAMPLERS:  # alternated: A B A B
-                r = render(a, scene, ["--spp", str(spp), "--seed", "5", "--light-sampler", s,
+                r = render(a, scene, ["--spp", str(spp), "--seed", "5", *SAMPLER_ARGS[s],
                                       "--reference", ref, "--out", os.path.join(a.work, "o.pfm")])
                 seconds[s].append(r["seconds"])
                 rel[s] = r["rel_mse"]  # same seed: the same image every round
@@ -87,15 +96,15 @@ def all_scenes(a):
         if not os.path.exists(ref):
             print(f"light_tree_bench: reference {name} (1024 spp)...", flush=True)
             render(a, scene, ["--spp", "1024", "--seed", "987654", "--out", ref])
-        seconds = {s: [] for s in SAMPLERS}
+        seconds = {s: [] for s in ("power", "tree")}
         rel = {}
         for _ in range(a.rounds):
-            for s in SAMPLERS:
+            for s in ("power", "tree"):
                 r = render(a, scene, ["--spp", "16", "--seed", "5", "--light-sampler", s,
                                       "--reference", ref, "--out", os.path.join(a.work, "o.pfm")])
                 seconds[s].append(r["seconds"])
                 rel[s] = r["rel_mse"]
-        t = {s: statistics.median(seconds[s]) for s in SAMPLERS}
+        t = {s: statistics.median(seconds[s]) for s in seconds}
         ratio = (t["tree"] * rel["tree"]) / (t["power"] * rel["power"])
         rows.append([name, round(t["power"], 4), rel["power"], round(t["tree"], 4), rel["tree"],
                      round(ratio, 3)])
@@ -133,12 +142,15 @@ def main():
         for target in TARGETS:
             t = {s: crossing([(r[3], r[4]) for r in rows if r[0] == name and r[1] == s], target)
                  for s in SAMPLERS}
-            ratio = t["tree"] / t["power"] if t["tree"] and t["power"] else ""
-            summary.append([name, target, t["power"] or "never", t["tree"] or "never",
-                            round(ratio, 3) if ratio != "" else ""])
-            print(f"{name}: relMSE {target:g}: power {t['power']} s, tree {t['tree']} s, ratio {ratio}")
+            def ratio(x, y):
+                return round(t[x] / t[y], 3) if t[x] and t[y] else ""
+            summary.append([name, target] + [t[s] or "never" for s in SAMPLERS] +
+                           [ratio("tree", "power"), ratio("tree+ris2", "tree"), ratio("tree+ris4", "tree")])
+            print(f"{name}: relMSE {target:g}: " + ", ".join(f"{s} {t[s]} s" for s in SAMPLERS) +
+                  f"; tree/power {ratio('tree', 'power')}", flush=True)
     write_csv(os.path.join(a.out, "light_tree_time_to_error.csv"),
-              ["scene", "target_rel_mse", "power_seconds", "tree_seconds", "tree_over_power"], summary)
+              ["scene", "target_rel_mse"] + [f"{s}_seconds" for s in SAMPLERS] +
+              ["tree_over_power", "ris2_over_tree", "ris4_over_tree"], summary)
     plot(a, rows_csv, os.path.join(a.out, "light_tree_bench.png"))
 
 

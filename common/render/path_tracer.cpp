@@ -27,12 +27,6 @@ Orientation orient(const SurfacePoint& sp, const Vec3& wo, bool transmissive) {
     return {ng, Frame::from_normal_tangent(ns, sp.tangent)};
 }
 
-// A direction is consistent when the shading and geometric normals agree on which side of
-// the surface it leaves to; otherwise light would leak through the mesh.
-bool consistent_side(const Vec3& w_world, const Vec3& w_local, const Vec3& ng) {
-    return glm::dot(w_world, ng) * w_local.z > 0.0f;
-}
-
 }  // namespace
 
 uint32_t scene_features(const ShadingScene& shading, const LightSampler& lights) {
@@ -63,59 +57,6 @@ float PathTracer::light_pdf_solid_angle(const Hit& hit, const Vec3& origin,
     const float dist2 = glm::dot(d, d);
     const float cos_light = std::abs(glm::dot(sp.ng, d)) / std::sqrt(dist2);
     return cos_light > 0.0f ? pdf_area * dist2 / cos_light : 0.0f;
-}
-
-Rgb PathTracer::sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const Frame& frame,
-                              const Vec3& shading_ng, const Vec3& wo_local, const Rgb& sigma_a,
-                              PixelSampler& sampler, SampleCounters& counters) const {
-    const Vec2 u_select = sampler.next_2d();
-    const Vec2 u_light = sampler.next_2d();
-    if (settings_.strategy == LightStrategy::bsdf_only || lights_.empty() || !bsdf.has_non_delta())
-        return Rgb(0.0f);
-    const auto ls = lights_.sample(sp.p, sp.ng, u_select.x, u_light);
-    if (!ls || ls->pdf <= 0.0f || max_component(ls->radiance) <= 0.0f) return Rgb(0.0f);
-
-    Vec3 wi;
-    float dist = kInfinity;
-    float pdf_light = ls->pdf;
-    if (ls->environment) {
-        wi = ls->p;
-    } else {
-        const Vec3 d = ls->p - sp.p;
-        const float dist2 = glm::dot(d, d);
-        dist = std::sqrt(dist2);
-        wi = d / dist;
-        const float cos_light = std::abs(glm::dot(ls->n, wi));
-        if (cos_light <= 0.0f || dist2 <= 0.0f) return Rgb(0.0f);
-        pdf_light *= dist2 / cos_light;  // area to solid angle
-    }
-    const Vec3 wi_local = frame.to_local(wi);
-    if (!consistent_side(wi, wi_local, shading_ng)) return Rgb(0.0f);
-    const Vec3 ng = glm::dot(wi, sp.ng) > 0.0f ? sp.ng : -sp.ng;
-    const Rgb f = bsdf.eval(wo_local, wi_local) * std::abs(wi_local.z);
-    if (max_component(f) <= 0.0f) return Rgb(0.0f);
-
-    Ray shadow;
-    if (ls->environment) {
-        shadow.o = offset_ray_origin(sp.p, ng);
-        shadow.d = wi;
-        shadow.tmax = kInfinity;
-    } else {
-        shadow = shadow_ray_between(sp.p, ng, ls->p, glm::dot(ls->n, wi) < 0.0f ? ls->n : -ls->n);
-    }
-    ++counters.rays;
-    if (kernel_.occluded(shadow)) return Rgb(0.0f);
-    const float weight = settings_.strategy == LightStrategy::light_only
-                             ? 1.0f
-                             : power_heuristic(pdf_light, bsdf.pdf(wo_local, wi_local));
-    // Beer's law along the shadow segment, as a BSDF-sampled path to the same point gets it:
-    // the medium around an opaque vertex, or a dielectric's inside when wi enters it.
-    const Rgb medium = !bsdf.transmissive()         ? sigma_a
-                       : glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material)
-                                                    : Rgb(0.0f);
-    const Rgb transmittance =
-        ls->environment || max_component(medium) <= 0.0f ? Rgb(1.0f) : glm::exp(-medium * dist);
-    return f * transmittance * ls->radiance * (weight / pdf_light);
 }
 
 // What a path carries from one vertex to the next.
@@ -165,14 +106,14 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     const Orientation o = orient(sp, wo, bsdf.transmissive());
     const Vec3 wo_local = o.frame.to_local(wo);
     s.radiance +=
-        s.beta * sample_direct(sp, bsdf, o.frame, o.ng, wo_local, s.sigma_a, sampler, counters);
+        s.beta * sample_direct({sp, bsdf, o.frame, o.ng, wo_local, s.sigma_a}, sampler, counters);
 
     const Vec2 u_lobe = sampler.next_2d();
     const Vec2 u_dir = sampler.next_2d();
     BsdfSample bs;
     if (!bsdf.sample(wo_local, u_lobe.x, u_dir, bs)) return false;
     const Vec3 wi = o.frame.to_world(bs.wi);
-    if (!consistent_side(wi, bs.wi, o.ng)) return false;
+    if (!detail::consistent_side(wi, bs.wi, o.ng)) return false;
     const Vec3 ng_out = glm::dot(wi, o.ng) > 0.0f ? o.ng : -o.ng;
     s.beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
     s.delta_bounce = bs.delta;

@@ -34,7 +34,23 @@ struct IntegratorSettings {
     // How next-event estimation chooses an emissive triangle (docs/rendering.md, "Lights"): the
     // tree by default, measured the better (bench/light_tree_bench.py).
     LightSelection light_selection = LightSelection::tree;
+    // Resampled light selection (RIS, direct_light.cpp): next-event estimation draws this many
+    // candidates and traces a shadow ray to one, chosen by its unshadowed contribution; 1: off.
+    int light_candidates = 1;
 };
+inline constexpr int kMaxLightCandidates = 16;
+// How RIS shifts candidate j's point on its emitter: j steps of the R2 low-discrepancy
+// sequence (Roberts 2018; 1/g and 1/g^2 for g the plastic number).
+inline constexpr float kCandidateStepX = 0.75487766624669276f,
+                       kCandidateStepY = 0.56984029099805327f;
+
+namespace detail {
+// A direction is consistent when the shading and geometric normals agree on which side of
+// the surface it leaves to; otherwise light would leak through the mesh.
+inline bool consistent_side(const Vec3& w_world, const Vec3& w_local, const Vec3& ng) {
+    return glm::dot(w_world, ng) * w_local.z > 0.0f;
+}
+}  // namespace detail
 
 // What a scene needs of the path-tracing loop. A loop instantiated without a feature leaves
 // out its work per bounce (docs/performance.md: the measured benefit).
@@ -80,10 +96,21 @@ private:
     template <uint32_t kFeatures>
     Rgb trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const;
 
-    // One light sample at sp; sigma_a is the absorption of the medium the path is in.
-    Rgb sample_direct(const SurfacePoint& sp, const Bsdf& bsdf, const class Frame& frame,
-                      const Vec3& shading_ng, const Vec3& wo_local, const Rgb& sigma_a,
-                      PixelSampler& sampler, SampleCounters& counters) const;
+    // Where next-event estimation happens: sigma_a is the absorption of the medium the path
+    // is in, shading_ng the geometric normal on the side being shaded.
+    struct ShadingPoint {
+        const SurfacePoint& sp;
+        const Bsdf& bsdf;
+        const class Frame& frame;
+        Vec3 shading_ng, wo_local;
+        Rgb sigma_a;
+    };
+    // One light sample's contribution at x, or (light_candidates > 1) one chosen from several.
+    Rgb sample_direct(const ShadingPoint& x, PixelSampler& sampler, SampleCounters& counters) const;
+    struct LightCandidate;
+    bool light_candidate(const ShadingPoint& x, float u_select, Vec2 u_light,
+                         LightCandidate& c) const;
+    bool unoccluded(const ShadingPoint& x, const LightCandidate& c, SampleCounters& counters) const;
     // Density (solid angle, from origin) of light sampling choosing the emitter point sp.
     float light_pdf_solid_angle(const Hit& hit, const Vec3& origin, const Vec3& origin_normal,
                                 const SurfacePoint& sp) const;

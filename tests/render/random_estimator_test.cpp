@@ -35,11 +35,12 @@ struct Param {
     uint32_t index;
     tracer::BackendKind backend;
     LightSelection selection = LightSelection::power;
+    int light_candidates = 1;  // > 1: resampled light selection
 };
 
 void PrintTo(const Param& p, std::ostream* os) {
     *os << "case " << p.index << (p.backend == tracer::BackendKind::embree ? " embree" : " opencl")
-        << " " << light_selection_name(p.selection);
+        << " " << light_selection_name(p.selection) << " x" << p.light_candidates;
 }
 
 std::vector<FloatImage> batches(const SceneModel& scene, LightStrategy strategy, const Param& p) {
@@ -50,6 +51,7 @@ std::vector<FloatImage> batches(const SceneModel& scene, LightStrategy strategy,
     r.integrator.strategy = strategy;
     r.integrator.max_depth = 5;
     r.integrator.light_selection = p.selection;
+    r.integrator.light_candidates = p.light_candidates;
     r.backend = p.backend;
     return test::render_seeds(scene, r, kBatches);
 }
@@ -125,17 +127,22 @@ std::vector<Param> params() {
         for (LightSelection selection : {LightSelection::power, LightSelection::tree})
             for (tracer::BackendKind backend : test::built_backends())
                 out.push_back({i, backend, selection});
+        // Resampled light selection over a quarter of the cases: any weighting error shows as
+        // light-only sampling disagreeing with BSDF-only.
+        if (i % 4 == 0)
+            for (tracer::BackendKind backend : test::built_backends())
+                out.push_back({i, backend, LightSelection::tree, 4});
     }
     return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, RandomLighting, ::testing::ValuesIn(params()),
-                         [](const auto& param_info) {
-                             const Param& p = param_info.param;
-                             return "case" + std::to_string(p.index) + "_" +
-                                    test::backend_label(p.backend) +
-                                    (p.selection == LightSelection::tree ? "_tree" : "");
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Cases, RandomLighting, ::testing::ValuesIn(params()), [](const auto& param_info) {
+        const Param& p = param_info.param;
+        return "case" + std::to_string(p.index) + "_" + test::backend_label(p.backend) +
+               (p.selection == LightSelection::tree ? "_tree" : "") +
+               (p.light_candidates > 1 ? "_ris" + std::to_string(p.light_candidates) : "");
+    });
 
 }  // namespace
 }  // namespace pathfarm

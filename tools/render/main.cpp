@@ -79,6 +79,11 @@ void add_integrator_options(CLI::App& app, CommandLine& c) {
                    "point) or power")
         ->capture_default_str()
         ->check(CLI::IsMember({"tree", "power"}));
+    app.add_option("--light-candidates", c.o.light_candidates,
+                   "Resampled light selection: candidates drawn per light sample, one traced "
+                   "(chosen by its unshadowed contribution); 1: off")
+        ->capture_default_str()
+        ->check(CLI::Range(1, pathfarm::kMaxLightCandidates));
     app.add_flag("--no-light-culling", c.no_light_culling,
                  "Also sample emitters that a closed surface separates from the camera");
     app.add_flag("--denoise", c.o.denoise,

@@ -190,6 +190,7 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     job.integrator.specialise = o.specialise;
     job.integrator.cull_sealed_lights = o.cull_sealed_lights;
     job.integrator.light_selection = o.light_selection;
+    job.integrator.light_candidates = o.light_candidates;
     job.y0 = 0;
     job.y1 = o.height;
     FloatImage image(o.width, o.height);

@@ -35,6 +35,7 @@ struct RenderToolOptions {
     bool specialise = true;          // the path-tracing loop specialised for the scene's features
     bool cull_sealed_lights = true;  // IntegratorSettings::cull_sealed_lights
     LightSelection light_selection = IntegratorSettings{}.light_selection;
+    int light_candidates = IntegratorSettings{}.light_candidates;
     float exposure = 1.0f;
     // The denoiser's spatial filter on the finished image (coordinator/converge/denoiser.h),
     // guided by the first hits of the pixel centres.

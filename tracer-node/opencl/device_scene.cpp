@@ -20,6 +20,9 @@ static_assert(PF_STRATEGY_MIS == int(LightStrategy::mis) &&
                   PF_STRATEGY_LIGHT_ONLY == int(LightStrategy::light_only) &&
                   PF_STRATEGY_BSDF_ONLY == int(LightStrategy::bsdf_only),
               "LightStrategy");
+static_assert(PF_MAX_LIGHT_CANDIDATES == kMaxLightCandidates && PF_R2_X == kCandidateStepX &&
+                  PF_R2_Y == kCandidateStepY,
+              "resampled light selection's constants");
 static_assert(PF_FEATURE_EMITTERS == kFeatureEmitters &&
                   PF_FEATURE_ENVIRONMENT == kFeatureEnvironment &&
                   PF_FEATURE_TRANSMISSION == kFeatureTransmission,

@@ -25,6 +25,10 @@ typedef uint8_t pf_uchar;
 #define PF_STRATEGY_MIS 0
 #define PF_STRATEGY_LIGHT_ONLY 1
 #define PF_STRATEGY_BSDF_ONLY 2
+#define PF_MAX_LIGHT_CANDIDATES 16  // kMaxLightCandidates
+// The R2 sequence's step that shifts each RIS candidate's point (direct_light.cpp).
+#define PF_R2_X 0.75487766624669276f
+#define PF_R2_Y 0.56984029099805327f
 
 // SceneFeature bits, as common/render/path_tracer.h.
 #define PF_FEATURE_EMITTERS 1u
@@ -191,8 +195,9 @@ typedef struct {
     pf_int strategy;  // PF_STRATEGY_*
     pf_int rr_start_depth;
     float rr_scale;
-    pf_int first_hits;  // nonzero: write each pixel's first hit (common/film/first_hits.h)
-    pf_uint pad[2];
+    pf_int first_hits;        // nonzero: write each pixel's first hit (common/film/first_hits.h)
+    pf_int light_candidates;  // IntegratorSettings::light_candidates
+    pf_uint pad;
 } PfFrameParams;
 
 // The scene's device arrays in kernel argument order (after PfFrameParams, before the

@@ -146,6 +146,7 @@ PfFrameParams frame_params(const RenderJob& job) {
     fp.rr_start_depth = job.integrator.rr_start_depth;
     fp.rr_scale = job.integrator.rr_scale;
     fp.first_hits = job.first_hits != nullptr;
+    fp.light_candidates = job.integrator.light_candidates;
     return fp;
 }
 

@@ -27,61 +27,119 @@ float pf_light_pdf_solid_angle(const PfScene* s, const PfHit* hit, const PfSurfa
     return cos_light > 0.0f ? pdf_area * dist2 / cos_light : 0.0f;
 }
 
-// One light sample at sp; sigma_a is the absorption of the medium the path is in.
-float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfSurface* sp,
-                        const PfBsdf* bsdf, const PfFrame* frame, float3 shading_ng,
-                        float3 wo_local, float3 sigma_a, PfSampler* sampler, uint* rays) {
-    const float2 u_select = pf_next_2d(sampler);
-    const float2 u_light = pf_next_2d(sampler);
-    if (fp->strategy == PF_STRATEGY_BSDF_ONLY || pf_lights_empty(s->globals) ||
-        !bsdf->has_non_delta)
-        return (float3)(0.0f);
+// Next-event estimation (common/render/direct_light.cpp): one light sample, or with
+// fp->light_candidates > 1 resampled importance sampling over that many candidates.
+typedef struct {
     PfLightSample ls;
-    if (!pf_sample_light(s, sp->p, sp->ng, u_select.x, u_light, &ls) || ls.pdf <= 0.0f ||
-        pf_max3(ls.radiance) <= 0.0f)
-        return (float3)(0.0f);
     float3 wi;
-    float pdf_light = ls.pdf;
-    float dist = PF_INFINITY;
-    if (ls.environment) {
-        wi = ls.p;
+    float dist;
+    float3 contribution;  // unshadowed, MIS-weighted, over the light sampler's pdf
+} PfLightCandidate;
+
+typedef struct {
+    const PfSurface* sp;
+    const PfBsdf* bsdf;
+    const PfFrame* frame;
+    float3 shading_ng, wo_local, sigma_a;
+} PfShadingPoint;
+
+bool pf_light_candidate(const PfScene* s, const PfFrameParams* fp, const PfShadingPoint* x,
+                        float u_select, float2 u_light, PfLightCandidate* c) {
+    const PfSurface* sp = x->sp;
+    if (!pf_sample_light(s, sp->p, sp->ng, u_select, u_light, &c->ls) || c->ls.pdf <= 0.0f ||
+        pf_max3(c->ls.radiance) <= 0.0f)
+        return false;
+    float pdf_light = c->ls.pdf;
+    c->dist = PF_INFINITY;
+    if (c->ls.environment) {
+        c->wi = c->ls.p;
     } else {
-        const float3 d = ls.p - sp->p;
+        const float3 d = c->ls.p - sp->p;
         const float dist2 = dot(d, d);
-        dist = sqrt(dist2);
-        wi = d / dist;
-        const float cos_light = fabs(dot(ls.n, wi));
-        if (cos_light <= 0.0f || dist2 <= 0.0f) return (float3)(0.0f);
+        c->dist = sqrt(dist2);
+        c->wi = d / c->dist;
+        const float cos_light = fabs(dot(c->ls.n, c->wi));
+        if (cos_light <= 0.0f || dist2 <= 0.0f) return false;
         pdf_light *= dist2 / cos_light;
     }
-    const float3 wi_local = pf_to_local(frame, wi);
-    if (!pf_consistent_side(wi, wi_local, shading_ng)) return (float3)(0.0f);
-    const float3 ng = dot(wi, sp->ng) > 0.0f ? sp->ng : -sp->ng;
-    const float3 f = pf_bsdf_eval(bsdf, wo_local, wi_local) * fabs(wi_local.z);
-    if (pf_max3(f) <= 0.0f) return (float3)(0.0f);
+    const float3 wi_local = pf_to_local(x->frame, c->wi);
+    if (!pf_consistent_side(c->wi, wi_local, x->shading_ng)) return false;
+    const float3 f = pf_bsdf_eval(x->bsdf, x->wo_local, wi_local) * fabs(wi_local.z);
+    if (pf_max3(f) <= 0.0f) return false;
+    const float weight =
+        fp->strategy == PF_STRATEGY_LIGHT_ONLY
+            ? 1.0f
+            : pf_power_heuristic(pdf_light, pf_bsdf_pdf(x->bsdf, x->wo_local, wi_local));
+    // Beer's law along the shadow segment (direct_light.cpp).
+    float3 transmittance = (float3)(1.0f);
+    if (PF_TRANSMISSION && !c->ls.environment) {
+        const float3 medium = x->bsdf->w_glass <= 0.0f ? x->sigma_a
+                              : dot(c->wi, sp->ng) < 0.0f
+                                  ? pf_vec3(s->materials[sp->material].sigma_a)
+                                  : (float3)(0.0f);
+        if (pf_max3(medium) > 0.0f) transmittance = exp(-medium * c->dist);
+    }
+    c->contribution = f * transmittance * c->ls.radiance * (weight / pdf_light);
+    return pf_max3(c->contribution) > 0.0f;
+}
+
+bool pf_unoccluded(const PfScene* s, const PfShadingPoint* x, const PfLightCandidate* c,
+                   uint* rays) {
+    const float3 ng = dot(c->wi, x->sp->ng) > 0.0f ? x->sp->ng : -x->sp->ng;
     PfRay shadow;
-    if (ls.environment) {
-        shadow.o = pf_offset_ray_origin(sp->p, ng);
-        shadow.d = wi;
+    if (c->ls.environment) {
+        shadow.o = pf_offset_ray_origin(x->sp->p, ng);
+        shadow.d = c->wi;
         shadow.tmax = PF_INFINITY;
     } else {
-        shadow = pf_shadow_ray_between(sp->p, ng, ls.p, dot(ls.n, wi) < 0.0f ? ls.n : -ls.n);
+        const float3 n = c->ls.n;
+        shadow = pf_shadow_ray_between(x->sp->p, ng, c->ls.p, dot(n, c->wi) < 0.0f ? n : -n);
     }
     ++*rays;
     PfHit unused;
-    if (pf_trace(s, shadow, &unused, true)) return (float3)(0.0f);
-    const float weight = fp->strategy == PF_STRATEGY_LIGHT_ONLY
-                             ? 1.0f
-                             : pf_power_heuristic(pdf_light, pf_bsdf_pdf(bsdf, wo_local, wi_local));
-    // Beer's law along the shadow segment (path_tracer.cpp sample_direct).
-    float3 transmittance = (float3)(1.0f);
-    if (PF_TRANSMISSION && !ls.environment) {
-        const float3 medium = bsdf->w_glass <= 0.0f ? sigma_a
-                              : dot(wi, sp->ng) < 0.0f ? pf_vec3(s->materials[sp->material].sigma_a)
-                                                       : (float3)(0.0f);
-        if (pf_max3(medium) > 0.0f) transmittance = exp(-medium * dist);
+    return !pf_trace(s, shadow, &unused, true);
+}
+
+float pf_wrap_unit(float x) { return fmin(x - floor(x), 0x1.fffffep-1f); }
+
+float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfShadingPoint* x,
+                        PfSampler* sampler, uint* rays) {
+    const float2 u_select = pf_next_2d(sampler);
+    const float2 u_light = pf_next_2d(sampler);
+    if (fp->strategy == PF_STRATEGY_BSDF_ONLY || pf_lights_empty(s->globals) ||
+        !x->bsdf->has_non_delta)
+        return (float3)(0.0f);
+    const int m = clamp(fp->light_candidates, 1, PF_MAX_LIGHT_CANDIDATES);
+    if (m == 1) {
+        PfLightCandidate c;
+        if (!pf_light_candidate(s, fp, x, u_select.x, u_light, &c) || !pf_unoccluded(s, x, &c, rays))
+            return (float3)(0.0f);
+        return c.contribution;
     }
-    return f * transmittance * ls.radiance * (weight / pdf_light);
+    PfLightCandidate candidates[PF_MAX_LIGHT_CANDIDATES];
+    float weight[PF_MAX_LIGHT_CANDIDATES];
+    float total = 0.0f;
+    for (int j = 0; j < m; ++j) {  // the same candidates as direct_light.cpp draws
+        const float u_j = pf_wrap_unit(u_select.x + (float)j / (float)m);
+        const float2 v_j = (float2)(pf_wrap_unit(u_light.x + (float)j * PF_R2_X),
+                                    pf_wrap_unit(u_light.y + (float)j * PF_R2_Y));
+        weight[j] = pf_light_candidate(s, fp, x, u_j, v_j, &candidates[j])
+                        ? pf_luminance(candidates[j].contribution)
+                        : 0.0f;
+        total += weight[j];
+    }
+    if (!(total > 0.0f) || !isfinite(total)) return (float3)(0.0f);
+    const float target = u_select.y * total;
+    int chosen = -1;
+    float below = 0.0f;
+    for (int j = 0; j < m; ++j) {
+        if (!(weight[j] > 0.0f)) continue;
+        chosen = j;
+        below += weight[j];
+        if (target < below) break;
+    }
+    if (!pf_unoccluded(s, x, &candidates[chosen], rays)) return (float3)(0.0f);
+    return candidates[chosen].contribution * (total / ((float)m * weight[chosen]));
 }
 
 // Radiance along a camera ray; a non-finite estimate is counted and returned as zero.
@@ -136,8 +194,8 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (!transmissive && dot(wo, ns) <= 0.0f) ns = ng;
         const PfFrame frame = pf_frame_from_normal_tangent(ns, sp.tangent);
         const float3 wo_local = pf_to_local(&frame, wo);
-        radiance +=
-            beta * pf_sample_direct(s, fp, &sp, &bsdf, &frame, ng, wo_local, sigma_a, sampler, rays);
+        const PfShadingPoint x = {&sp, &bsdf, &frame, ng, wo_local, sigma_a};
+        radiance += beta * pf_sample_direct(s, fp, &x, sampler, rays);
 
         const float2 u_lobe = pf_next_2d(sampler);
         const float2 u_dir = pf_next_2d(sampler);
