@@ -1,341 +1,240 @@
-// Building, refitting and descending the light tree (light_tree.h).
+// Descending the light tree (light_tree.h): the binary tree collapsed to four children per
+// node, all four weighed by importance in one SIMD evaluation; light_tree_build.cpp builds and
+// refits the binary tree.
 #include "common/render/light_tree.h"
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace pathfarm {
 namespace {
 
-constexpr int kBuckets = 12;
-// From this depth on, nodes split at the median: at most 24 more levels for 16 M emitters,
-// so every path fits a 64-bit trail.
-constexpr int kBalancedFromDepth = 40;
+constexpr float kOneBelow = 0x1.fffffep-1f;
 
-// M_omega of Conty Estevez & Kulla 2018 (eq. 1, theta_e = pi/2): the solid angle a cone of
-// normals of half-angle theta_o may light, weighted by cosine.
-double orientation_measure(double cos_o) {
-    const double pi = 3.14159265358979323846;
-    const double theta_o = std::acos(std::clamp(cos_o, -1.0, 1.0)), sin_o = std::sin(theta_o);
-    const double theta_w = std::min(theta_o + pi / 2, pi);
-    return 2 * pi * (1 - cos_o) + pi / 2 *
-                                      (2 * theta_w * sin_o - std::cos(theta_o - 2 * theta_w) -
-                                       2 * theta_o * sin_o + cos_o);
+bool distant(const float center[3], float radius2, float cos_theta_o, const Vec3& p) {
+    const Vec3 d(p.x - center[0], p.y - center[1], p.z - center[2]);
+    return radius2 < LightTree::kDistantSin2 * glm::dot(d, d) &&
+           cos_theta_o > LightTree::kDistantCos;
 }
 
-// orientation_measure tabulated over cos theta_o in [-1, 1] (the split search evaluates it
-// some 60 times per node): linear interpolation, well within what a heuristic needs.
-double orientation_measure_fast(float cos_o) {
-    constexpr int kSteps = 512;
-    static const std::vector<double> table = [] {
-        std::vector<double> t(kSteps + 1);
-        for (int i = 0; i <= kSteps; ++i)
-            t[std::size_t(i)] = orientation_measure(-1.0 + 2.0 * double(i) / kSteps);
-        return t;
-    }();
-    const double x = (std::clamp(double(cos_o), -1.0, 1.0) + 1.0) * 0.5 * kSteps;
-    const int i = std::min(kSteps - 1, int(x));
-    return table[std::size_t(i)] + (x - i) * (table[std::size_t(i) + 1] - table[std::size_t(i)]);
-}
-
-// The surface-area-orientation heuristic (Conty Estevez & Kulla 2018, eq. 3): power times
-// M_omega times the box's area. `kr` penalises splitting a long box across its short side.
-double orientation_area_cost(const Bounds3f& box, float power, float cos_theta_o, float kr) {
-    if (!(power > 0.0f) || box.empty()) return 0.0;
-    const Vec3 e = box.extent();
-    const double area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
-    return double(power) * orientation_measure_fast(cos_theta_o) * double(kr) * area;
-}
-
-int bucket_of(float c, float lower, float extent) {
-    return std::min(kBuckets - 1, int(float(kBuckets) * (c - lower) / extent));
-}
-
-// What the split search keeps of a group of emitters: cheap to extend by one emitter and to
-// merge. The normal cone is estimated from the mean of the axes (its length R: 1 when all
-// face one way; cos theta_o ~ 2R - 1), not unioned exactly: the exact union is an acos, a
-// rotation and more per emitter per axis per level, which made building 10 000 emitters take
-// 120 ms. The nodes' own bounds are exact (union_bounds of their children).
-struct GroupSummary {
-    Bounds3f box;
-    Vec3 axis_sum{0.0f};
-    float power = 0.0f;
-    int count = 0;
-
-    void add(const LightBounds& b) {
-        if (!(b.power > 0.0f)) {
-            ++count;
-            return;
-        }
-        box.extend(b.box);
-        axis_sum += b.axis * std::max(0.0f, b.cos_theta_o);
-        power += b.power;
-        ++count;
-    }
-    void add(const GroupSummary& g) {
-        box.extend(g.box);
-        axis_sum += g.axis_sum;
-        power += g.power;
-        count += g.count;
-    }
-    double cost(float kr) const {
-        if (count == 0) return 0.0;
-        const float cos_o = 2.0f * glm::length(axis_sum) / float(count) - 1.0f;
-        return orientation_area_cost(box, power, cos_o, kr);
-    }
-};
-
-// The cheapest bucket boundary along `dim` (cost, bucket), or cost infinity when none
-// separates anything.
-std::pair<double, int> best_bucket_along(std::span<const uint32_t> ids,
-                                         std::span<const LightBounds> em,
-                                         std::span<const Vec3> centre, const Bounds3f& centroids,
-                                         int dim, float kr) {
-    const float lower = centroids.lower[dim], extent = centroids.extent()[dim];
-    GroupSummary bucket[kBuckets];
-    for (uint32_t id : ids)
-        bucket[bucket_of(centre[id][dim], lower, extent)].add(em[id]);
-    GroupSummary above[kBuckets];
-    above[kBuckets - 1] = bucket[kBuckets - 1];
-    for (int k = kBuckets - 2; k >= 0; --k) {
-        above[k] = bucket[k];
-        above[k].add(above[k + 1]);
-    }
-    std::pair<double, int> best{INFINITY, 0};
-    GroupSummary below;
-    for (int k = 1; k < kBuckets; ++k) {
-        below.add(bucket[k - 1]);
-        if (below.count == 0 || below.count == int(ids.size())) continue;
-        const double cost = below.cost(kr) + above[k].cost(kr);
-        if (cost < best.first) best = {cost, k};
-    }
-    return best;
-}
-
-// Where to split `ids`: the cheapest bucket boundary by the heuristic over the three axes, or
-// the median along the widest axis when no boundary separates anything (or deep down).
-std::size_t split_ids(std::span<uint32_t> ids, std::span<const LightBounds> em,
-                      std::span<const Vec3> centre, int depth) {
-    Bounds3f centroids, boxes;
-    for (uint32_t id : ids) {
-        centroids.extend(centre[id]);
-        boxes.extend(em[id].box);
-    }
-    const Vec3 ce = centroids.extent(), be = boxes.extent();
-    const float widest = max_component(be);
-    double best = INFINITY;
-    int best_dim = -1, best_bucket = 0;
-    for (int dim = 0; dim < 3 && depth < kBalancedFromDepth; ++dim) {
-        if (!(ce[dim] > 0.0f)) continue;
-        const float kr = be[dim] > 0.0f ? widest / be[dim] : 1.0f;
-        const auto [cost, bucket] = best_bucket_along(ids, em, centre, centroids, dim, kr);
-        if (cost < best) {
-            best = cost;
-            best_dim = dim;
-            best_bucket = bucket;
-        }
-    }
-    if (best_dim >= 0) {
-        const auto mid = std::partition(ids.begin(), ids.end(), [&](uint32_t id) {
-            return bucket_of(centre[id][best_dim], centroids.lower[best_dim], ce[best_dim]) <
-                   best_bucket;
-        });
-        return std::size_t(mid - ids.begin());
-    }
-    const int dim = ce.x >= ce.y && ce.x >= ce.z ? 0 : ce.y >= ce.z ? 1 : 2;
-    const std::size_t half = ids.size() / 2;
-    std::nth_element(ids.begin(), ids.begin() + std::ptrdiff_t(half), ids.end(),
-                     [&](uint32_t a, uint32_t b) {
-                         const float ca = centre[a][dim], cb = centre[b][dim];
-                         return ca < cb || (ca == cb && a < b);
-                     });
-    return half;
-}
-
-// Two consecutive emitters that are one flat polygon, such as the two triangles of a quad
-// light: facing one way, and together no larger than 1.5x the larger one's box diagonal.
-// Their importance differs by little more than their power, so a leaf holds both and chooses
-// between them by power: one level and two importance evaluations less per light sample (the
-// whole descent on a scene lit by one quad).
-bool one_flat_polygon(const LightBounds& a, const LightBounds& b) {
-    if (a.two_sided != b.two_sided || a.cos_theta_o < 1.0f || b.cos_theta_o < 1.0f) return false;
-    if (glm::dot(a.axis, b.axis) < 0.9998f || a.box.empty() || b.box.empty()) return false;
-    Bounds3f u = a.box;
-    u.extend(b.box);
-    const auto diag2 = [](const Bounds3f& box) { return glm::dot(box.extent(), box.extent()); };
-    return diag2(u) <= 2.25f * std::max(diag2(a.box), diag2(b.box));
+bool distant(const LightTree::WideNode& w, int k, const Vec3& p) {
+    const float c[3] = {w.center[0][k], w.center[1][k], w.center[2][k]};
+    return distant(c, w.radius2[k], w.cos_theta_o[k], p);
 }
 
 }  // namespace
 
-// What the tree is built over: single emitters and flat pairs, unit u holding emitters
-// first[u] up to first[u + 1].
-struct LightTree::Units {
-    std::vector<uint32_t> first;
-    std::vector<LightBounds> bounds;
-    std::vector<Vec3> centre;
-};
-
-LightTree::LightTree(std::span<const LightBounds> emitters) {
-    if (emitters.empty()) return;
-    trail_.assign(emitters.size(), 0);
-    depth_.assign(emitters.size(), 0);
-    share_.assign(emitters.size(), 1.0f);
-    Units units;
-    for (std::size_t k = 0; k < emitters.size();) {
-        const bool pair = k + 1 < emitters.size() && one_flat_polygon(emitters[k], emitters[k + 1]);
-        units.first.push_back(uint32_t(k));
-        units.bounds.push_back(pair ? union_bounds(emitters[k], emitters[k + 1]) : emitters[k]);
-        units.centre.push_back(units.bounds.back().box.center());
-        if (pair) set_shares(uint32_t(k), emitters);
-        k += pair ? 2 : 1;
+PackedLightBounds slot_bounds(const LightTree::WideNode& w, int k) {
+    PackedLightBounds b{};
+    for (int a = 0; a < 3; ++a) {
+        b.center[a] = w.center[a][k];
+        b.axis[a] = w.axis[a][k];
     }
-    units.first.push_back(uint32_t(emitters.size()));
-    nodes_.reserve(2 * units.bounds.size() - 1);
-    full_.reserve(2 * units.bounds.size() - 1);
-    std::vector<uint32_t> ids(units.bounds.size());
-    std::iota(ids.begin(), ids.end(), 0u);
-    build(ids, units, 0, 0);
+    b.radius2 = w.radius2[k];
+    b.cos_theta_o = w.cos_theta_o[k];
+    b.sin_theta_o = w.sin_theta_o[k];
+    b.power = w.power[k];
+    b.flags = w.flags[k];
+    return b;
 }
 
-uint32_t LightTree::build(std::span<uint32_t> ids, const Units& units, int depth, uint64_t trail) {
-    const auto node = uint32_t(nodes_.size());
-    nodes_.push_back({});
-    full_.emplace_back();
-    if (ids.size() == 1) {
-        const uint32_t first = units.first[ids[0]], end = units.first[ids[0] + 1];
-        nodes_[node].bounds.flags = kLeaf | (end - first == 2 ? kPair : 0u);
-        set_bounds(node, units.bounds[ids[0]]);
-        nodes_[node].child_or_emitter = first;
-        for (uint32_t e = first; e < end; ++e) {
-            trail_[e] = trail;
-            depth_[e] = uint8_t(depth);
+#if defined(__SSE2__)
+// importance() (light_bounds.h) for the four slots at once: the same operations in the same
+// order, lane by lane, with branches turned into selects; lanes that importance() would leave
+// early are zeroed at the end.
+void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float out[4]) {
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    const auto sel = [](__m128 mask, __m128 a, __m128 b) {
+        return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+    };
+    const auto safe_sqrt = [&](__m128 x) { return _mm_sqrt_ps(_mm_max_ps(zero, x)); };
+    const auto dot = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
+    };
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_loadu_ps(w.center[0]));
+    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_loadu_ps(w.center[1]));
+    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_loadu_ps(w.center[2]));
+    const __m128 dist2 = dot(tx, ty, tz, tx, ty, tz);
+    const __m128 inv_dist =
+        _mm_and_ps(_mm_cmpgt_ps(dist2, zero), _mm_div_ps(one, _mm_sqrt_ps(dist2)));
+    const __m128 r2 = _mm_loadu_ps(w.radius2);
+    const __m128 outside = _mm_cmpgt_ps(dist2, r2);
+    const __m128 sin2 = _mm_mul_ps(_mm_mul_ps(r2, inv_dist), inv_dist);
+    const __m128 sin_b = _mm_and_ps(outside, _mm_sqrt_ps(sin2));
+    const __m128 cos_b = sel(outside, safe_sqrt(_mm_sub_ps(one, sin2)), _mm_set1_ps(-1.0f));
+    __m128 cos_w = _mm_mul_ps(
+        dot(_mm_loadu_ps(w.axis[0]), _mm_loadu_ps(w.axis[1]), _mm_loadu_ps(w.axis[2]), tx, ty, tz),
+        inv_dist);
+    const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(w.flags));
+    const __m128 two_sided =
+        _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(flags, _mm_set1_epi32(int(kPackedTwoSided))),
+                                         _mm_set1_epi32(int(kPackedTwoSided))));
+    cos_w = sel(two_sided, _mm_and_ps(cos_w, abs_mask), cos_w);
+    const __m128 cos_o = _mm_loadu_ps(w.cos_theta_o), sin_o = _mm_loadu_ps(w.sin_theta_o);
+    const __m128 outside_cone = _mm_cmplt_ps(cos_w, cos_o);
+    const __m128 sin_w = safe_sqrt(_mm_sub_ps(one, _mm_mul_ps(cos_w, cos_w)));
+    const __m128 cos_wo =
+        sel(outside_cone, _mm_add_ps(_mm_mul_ps(cos_w, cos_o), _mm_mul_ps(sin_w, sin_o)), one);
+    const __m128 sin_wo =
+        sel(outside_cone,
+            _mm_max_ps(zero, _mm_sub_ps(_mm_mul_ps(sin_w, cos_o), _mm_mul_ps(cos_w, sin_o))), zero);
+    const __m128 cos_x = sel(_mm_cmpge_ps(cos_wo, cos_b), one,
+                             _mm_add_ps(_mm_mul_ps(cos_wo, cos_b), _mm_mul_ps(sin_wo, sin_b)));
+    const __m128 power = _mm_loadu_ps(w.power);
+    const __m128 floor2 = _mm_max_ps(_mm_max_ps(dist2, r2), _mm_set1_ps(1e-20f));
+    __m128 result = _mm_div_ps(_mm_mul_ps(power, cos_x), floor2);
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {  // the receiver's best cosine
+        const __m128 cos_i = _mm_mul_ps(
+            _mm_and_ps(dot(tx, ty, tz, _mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z)),
+                       abs_mask),
+            inv_dist);
+        const __m128 sin_i = safe_sqrt(_mm_sub_ps(one, _mm_mul_ps(cos_i, cos_i)));
+        const __m128 factor =
+            sel(_mm_cmplt_ps(cos_i, cos_b),
+                _mm_add_ps(_mm_mul_ps(cos_i, cos_b), _mm_mul_ps(sin_i, sin_b)), one);
+        result = _mm_mul_ps(result, factor);
+    }
+    const __m128 valid =
+        _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(power, zero), _mm_cmpgt_ps(cos_x, zero)),
+                   _mm_cmplt_ps(result, _mm_set1_ps(INFINITY)));
+    _mm_storeu_ps(out, _mm_and_ps(valid, result));
+}
+#else
+void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float out[4]) {
+    for (int k = 0; k < LightTree::kWidth; ++k)
+        out[k] = importance(slot_bounds(w, k), p, n);
+}
+#endif
+
+uint32_t LightTree::collapse(uint32_t b, int depth, uint64_t trail) {
+    const auto at = uint32_t(wide_.size());
+    wide_.push_back({});
+    wide_source_.push_back({});
+    uint32_t slots[kWidth];
+    int count = 0;
+    if (is_leaf(b)) {  // a tree of one leaf
+        slots[count++] = b;
+    } else {
+        for (const uint32_t c : {b + 1, nodes_[b].child_or_emitter}) {
+            if (is_leaf(c)) {
+                slots[count++] = c;
+            } else {
+                slots[count++] = c + 1;
+                slots[count++] = nodes_[c].child_or_emitter;
+            }
         }
-        return node;
     }
-    const std::size_t mid = split_ids(ids, units.bounds, units.centre, depth);
-    const uint32_t first = build(ids.first(mid), units, depth + 1, trail);
-    const uint32_t second =
-        build(ids.subspan(mid), units, depth + 1, trail | (uint64_t(1) << depth));
-    set_bounds(node, union_bounds(bounds(first), bounds(second)));
-    nodes_[node].child_or_emitter = second;
-    return node;
-}
-
-void LightTree::refit(std::span<const LightBounds> emitters) {
-    // Children follow their parent in the array, so one backward pass sees them first.
-    for (std::size_t i = nodes_.size(); i-- > 0;) {
-        const uint32_t child = nodes_[i].child_or_emitter;
-        if (is_leaf(i))
-            set_leaf(i, emitters);
-        else
-            set_bounds(i, union_bounds(full_[i + 1], full_[child]));
+    for (int k = 0; k < count; ++k) {
+        const uint32_t g = slots[k];
+        const PackedLightBounds& s = nodes_[g].bounds;
+        for (int a = 0; a < 3; ++a) {
+            wide_[at].center[a][k] = s.center[a];
+            wide_[at].axis[a][k] = s.axis[a];
+        }
+        wide_[at].radius2[k] = s.radius2;
+        wide_[at].cos_theta_o[k] = s.cos_theta_o;
+        wide_[at].sin_theta_o[k] = s.sin_theta_o;
+        wide_[at].power[k] = s.power;
+        wide_[at].flags[k] = s.flags;
+        wide_source_[at][std::size_t(k)] = g;
+        const uint64_t path = trail | (uint64_t(k) << (2 * depth));
+        if (!is_leaf(g)) {
+            const uint32_t child = collapse(g, depth + 1, path);  // wide_ may move
+            wide_[at].child[k] = child;
+            continue;
+        }
+        const uint32_t e = nodes_[g].child_or_emitter;
+        wide_[at].child[k] = e;
+        for (uint32_t i = e; i < e + ((s.flags & kPair) ? 2u : 1u); ++i) {
+            trail_[i] = path;
+            depth_[i] = uint8_t(depth + 1);
+        }
     }
+    return at;
 }
 
-void LightTree::set_leaf(std::size_t i, std::span<const LightBounds> emitters) {
-    const uint32_t e = nodes_[i].child_or_emitter;
-    if (!(nodes_[i].bounds.flags & kPair)) {
-        set_bounds(i, emitters[e]);
-        return;
-    }
-    set_bounds(i, union_bounds(emitters[e], emitters[e + 1]));
-    set_shares(e, emitters);
+void LightTree::collapse_all() {
+    wide_.clear();
+    wide_source_.clear();
+    if (!nodes_.empty()) collapse(0, 0, 0);
 }
 
-void LightTree::set_shares(uint32_t e, std::span<const LightBounds> emitters) {
-    const float a = std::max(0.0f, emitters[e].power), b = std::max(0.0f, emitters[e + 1].power);
-    share_[e] = a + b > 0.0f ? a / (a + b) : 0.5f;
-    share_[e + 1] = 1.0f - share_[e];
+LightBounds LightTree::bounds(std::size_t wide_node, int slot) const {
+    return full_[wide_source_[wide_node][std::size_t(slot)]];
 }
 
-double LightTree::cost() const {
-    double total = 0.0;
-    for (std::size_t i = 0; i < nodes_.size(); ++i)
-        if (!is_leaf(i))
-            total +=
-                orientation_area_cost(full_[i].box, full_[i].power, full_[i].cos_theta_o, 1.0f);
-    return total;
-}
-
-LightBounds LightTree::bounds(std::size_t i) const { return full_[i]; }
-
-void LightTree::set_bounds(std::size_t i, const LightBounds& b) {
-    full_[i] = b;
-    const uint32_t leaf = nodes_[i].bounds.flags & (kLeaf | kPair);
-    nodes_[i].bounds = pack(b);
-    nodes_[i].bounds.flags |= leaf;
-}
-
-// Whether node i is so far from p, and its emitters so alike in orientation, that their
-// importance differs by little more than their power: below it, children are chosen by power
-// alone (no importance to evaluate). Decided by the node and p only, so sample() and pmf()
-// switch at the same node.
-bool LightTree::distant(uint32_t i, const Vec3& p) const {
-    const PackedLightBounds& b = nodes_[i].bounds;
-    const Vec3 d(p.x - b.center[0], p.y - b.center[1], p.z - b.center[2]);
-    return b.radius2 < kDistantSin2 * glm::dot(d, d) && b.cos_theta_o > kDistantCos;
-}
-
-// The probability of the first child of interior node i, or -1 when neither child emits.
-// Where neither child's bound lets it light p (the union of two bounds is looser than either,
-// or nothing there can light p), the subtree falls back to choosing by power, so the
-// probabilities of all emitters always sum to one.
-float LightTree::first_child_probability(uint32_t i, const Vec3& p, const Vec3& n,
-                                         bool& by_power) const {
-    const PackedLightBounds &a = nodes_[i + 1].bounds,
-                            &b = nodes_[nodes_[i].child_or_emitter].bounds;
+// The four slots' weights (importance, or power where importance says nothing: every weight
+// zero, or below a distant node) and their sum; zero when nothing there emits.
+float LightTree::slot_weights(const WideNode& w, const Vec3& p, const Vec3& n, bool& by_power,
+                              float weight[kWidth]) const {
     if (!by_power) {
-        const float i0 = importance(a, p, n), i1 = importance(b, p, n);
-        if (i0 + i1 > 0.0f) return i0 / (i0 + i1);
+        wide_importance(w, p, n, weight);
+        const float total = (weight[0] + weight[1]) + (weight[2] + weight[3]);
+        if (total > 0.0f) return total;
         by_power = true;
     }
-    return a.power + b.power > 0.0f ? a.power / (a.power + b.power) : -1.0f;
+    for (int k = 0; k < kWidth; ++k)
+        weight[k] = std::max(0.0f, w.power[k]);
+    return (weight[0] + weight[1]) + (weight[2] + weight[3]);
 }
 
 std::optional<LightTree::Choice> LightTree::sample(const Vec3& p, const Vec3& n, float u) const {
     // No test of the root's own importance: where it is zero the descent goes by power, and
-    // the chosen emitter's zero radiance ends the sample before any ray (cheaper than one
-    // more importance per sample in scenes of one light).
-    if (nodes_.empty()) return std::nullopt;
-    uint32_t i = 0;
+    // the chosen emitter's zero radiance ends the sample before any ray.
+    if (wide_.empty()) return std::nullopt;
+    const PackedLightBounds& root = root_bounds();
+    bool by_power = is_leaf(0) || distant(root.center, root.radius2, root.cos_theta_o, p);
     float pmf = 1.0f;
-    bool by_power = is_leaf(0) || distant(0, p);
-    while (!is_leaf(i)) {
-        const float p0 = first_child_probability(i, p, n, by_power);
-        if (p0 < 0.0f) return std::nullopt;
-        if (u < p0) {
-            i = i + 1;
-            pmf *= p0;
-            u = std::min(u / p0, 0x1.fffffep-1f);
-        } else {
-            i = nodes_[i].child_or_emitter;
-            pmf *= 1.0f - p0;
-            u = std::min((u - p0) / (1.0f - p0), 0x1.fffffep-1f);
+    for (uint32_t node = 0;;) {
+        const WideNode& w = wide_[node];
+        float weight[kWidth];
+        const float total = slot_weights(w, p, n, by_power, weight);
+        if (!(total > 0.0f)) return std::nullopt;
+        const float target = u * total;
+        int slot = -1;
+        float below = 0.0f, lower = 0.0f;
+        for (int k = 0; k < kWidth; ++k) {
+            if (!(weight[k] > 0.0f)) continue;
+            slot = k;
+            lower = below;
+            below += weight[k];
+            if (target < below) break;
         }
-        by_power = by_power || distant(i, p);
+        pmf *= weight[slot] / total;
+        u = std::clamp((target - lower) / weight[slot], 0.0f, kOneBelow);
+        if (w.flags[slot] & kLeaf) {
+            uint32_t emitter = w.child[slot];
+            if ((w.flags[slot] & kPair) && !(u < share_[emitter])) ++emitter;
+            return Choice{emitter, pmf * share_[emitter]};
+        }
+        by_power = by_power || distant(w, slot, p);
+        node = w.child[slot];
     }
-    uint32_t emitter = nodes_[i].child_or_emitter;
-    if ((nodes_[i].bounds.flags & kPair) && !(u < share_[emitter])) ++emitter;
-    return Choice{emitter, pmf * share_[emitter]};
 }
 
 float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t emitter) const {
     if (emitter >= trail_.size()) return 0.0f;
     const uint64_t trail = trail_[emitter];
-    uint32_t i = 0;
+    const PackedLightBounds& root = root_bounds();
+    bool by_power = is_leaf(0) || distant(root.center, root.radius2, root.cos_theta_o, p);
     float pmf = share_[emitter];
-    bool by_power = is_leaf(0) || distant(0, p);
-    for (int d = 0; !is_leaf(i); ++d) {
-        const float p0 = first_child_probability(i, p, n, by_power);
-        if (p0 < 0.0f) return 0.0f;
-        const bool take_second = (trail >> d) & 1u;
-        pmf *= take_second ? 1.0f - p0 : p0;
-        i = take_second ? nodes_[i].child_or_emitter : i + 1;
-        by_power = by_power || distant(i, p);
+    for (uint32_t node = 0, d = 0;; ++d) {
+        const WideNode& w = wide_[node];
+        float weight[kWidth];
+        const float total = slot_weights(w, p, n, by_power, weight);
+        if (!(total > 0.0f)) return 0.0f;
+        const auto slot = int((trail >> (2 * d)) & 3u);
+        if (!(weight[slot] > 0.0f)) return 0.0f;
+        pmf *= weight[slot] / total;
+        if (w.flags[slot] & kLeaf) return pmf;
+        by_power = by_power || distant(w, slot, p);
+        node = w.child[slot];
     }
-    return pmf;
 }
 
 }  // namespace pathfarm

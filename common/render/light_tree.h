@@ -8,6 +8,7 @@
 // emitters, and cost() tells how much a refit has let the tree's quality degrade.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -19,10 +20,10 @@ namespace pathfarm {
 
 class LightTree {
 public:
-    // The layout the OpenCL kernel reads too (device_types.h mirrors it): an interior node's
-    // first child is the next node, its second `child_or_emitter`; a leaf holds one emitter,
-    // or with kPair two consecutive ones that form one flat polygon (a quad light's two
-    // triangles), chosen between by power: their importance would differ by little more.
+    // The binary tree as built and refitted: an interior node's first child is the next node,
+    // its second `child_or_emitter`; a leaf holds one emitter, or with kPair two consecutive
+    // ones that form one flat polygon (a quad light's two triangles), chosen between by power:
+    // their importance would differ by little more.
     struct Node {
         PackedLightBounds bounds;  // flags: kPackedTwoSided, kLeaf, kPair
         uint32_t child_or_emitter;
@@ -30,6 +31,20 @@ public:
     static constexpr uint32_t kLeaf = 2, kPair = 4;
     bool is_leaf(std::size_t node) const { return (nodes_[node].bounds.flags & kLeaf) != 0; }
     static constexpr int kMaxDepth = 64;
+
+    // What a shading point descends: the binary tree collapsed to four children per node
+    // (each node's children or grandchildren), their bounds side by side so that one SIMD
+    // evaluation weighs all four; half the levels. The OpenCL kernel reads the same layout
+    // (device_types.h mirrors it). An unused slot has power zero.
+    struct WideNode {
+        float center[3][4];
+        float radius2[4];
+        float axis[3][4];
+        float cos_theta_o[4], sin_theta_o[4], power[4];
+        uint32_t flags[4];  // kPackedTwoSided, kLeaf, kPair
+        uint32_t child[4];  // a wide node, or a leaf's (first) emitter
+    };
+    static constexpr int kWidth = 4;
 
     LightTree() = default;
     // One leaf per emitter or flat pair, in the order given (pmf() and the sampled index refer
@@ -55,12 +70,18 @@ public:
     bool empty() const { return nodes_.empty(); }
     std::size_t emitter_count() const { return trail_.size(); }
     const std::vector<Node>& nodes() const { return nodes_; }
-    // Per emitter, the path from the root: bit d set = the second child at depth d.
+    const std::vector<WideNode>& wide_nodes() const { return wide_; }
+    // The whole tree's bounds (the wide root's parent slot, for the distant switch).
+    const PackedLightBounds& root_bounds() const { return nodes_[0].bounds; }
+    // Per emitter, the path from the wide root: bits 2d and 2d + 1 = the slot taken at depth
+    // d; depth = the number of wide nodes on it.
     const std::vector<uint64_t>& trails() const { return trail_; }
     const std::vector<uint8_t>& depths() const { return depth_; }
     // Per emitter, the probability of choosing it once its leaf is chosen (1 unless paired).
     const std::vector<float>& leaf_shares() const { return share_; }
     LightBounds bounds(std::size_t node) const;
+    // The full bounds behind a wide node's slot.
+    LightBounds bounds(std::size_t wide_node, int slot) const;
 
     // Below a node whose bounding sphere subtends less than this (sin^2 of the half-angle) and
     // whose normals lie within acos(kDistantCos), children are chosen by power: their
@@ -68,11 +89,12 @@ public:
     static constexpr float kDistantSin2 = 0.02f, kDistantCos = 0.0f;
 
 private:
-    bool distant(uint32_t node, const Vec3& p) const;
-    float first_child_probability(uint32_t node, const Vec3& p, const Vec3& n,
-                                  bool& by_power) const;
+    float slot_weights(const WideNode& node, const Vec3& p, const Vec3& n, bool& by_power,
+                       float weight[kWidth]) const;
     struct Units;
-    uint32_t build(std::span<uint32_t> ids, const Units& units, int depth, uint64_t trail);
+    uint32_t build(std::span<uint32_t> ids, const Units& units, int depth);
+    uint32_t collapse(uint32_t node, int depth, uint64_t trail);
+    void collapse_all();
     void set_leaf(std::size_t node, std::span<const LightBounds> emitters);
     // The pair e, e + 1's shares of their leaf, by power.
     void set_shares(uint32_t e, std::span<const LightBounds> emitters);
@@ -80,9 +102,16 @@ private:
 
     std::vector<Node> nodes_;
     std::vector<LightBounds> full_;  // per node, with the box (for refit and cost)
+    std::vector<WideNode> wide_;
+    std::vector<std::array<uint32_t, kWidth>> wide_source_;  // the binary node in each slot
     std::vector<uint64_t> trail_;
     std::vector<uint8_t> depth_;
     std::vector<float> share_;
 };
+
+// A wide node's slot k as the bounds importance() reads.
+PackedLightBounds slot_bounds(const LightTree::WideNode& node, int k);
+// importance() of all four slots at once (SIMD where the machine has it), as the descent uses.
+void wide_importance(const LightTree::WideNode& node, const Vec3& p, const Vec3& n, float out[4]);
 
 }  // namespace pathfarm

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 
 #include "common/base/hash.h"
 #include "common/math/transform.h"
@@ -39,16 +40,21 @@ static_assert(PF_WRAP_REPEAT == unsigned(WrapMode::repeat) &&
                   PF_WRAP_MIRRORED_REPEAT == unsigned(WrapMode::mirrored_repeat) &&
                   kWrapModeCount == 3,
               "WrapMode");
-static_assert(sizeof(PfLightNode) == sizeof(LightTree::Node) &&
+static_assert(sizeof(PfLightNode) == sizeof(LightTree::WideNode) &&
+                  std::is_trivially_copyable_v<LightTree::WideNode> &&
                   PF_LIGHT_TWO_SIDED == kPackedTwoSided && PF_LIGHT_LEAF == LightTree::kLeaf &&
                   PF_LIGHT_PAIR == LightTree::kPair &&
                   PF_LIGHT_DISTANT_SIN2 == LightTree::kDistantSin2 &&
                   PF_LIGHT_DISTANT_COS == LightTree::kDistantCos,
-              "PfLightNode mirrors LightTree::Node");
+              "PfLightNode mirrors LightTree::WideNode");
+static_assert(offsetof(PfLightNode, power) == offsetof(LightTree::WideNode, power) &&
+                  offsetof(PfLightNode, flags) == offsetof(LightTree::WideNode, flags) &&
+                  offsetof(PfLightNode, child) == offsetof(LightTree::WideNode, child),
+              "PfLightNode's fields where LightTree::WideNode has them");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
                   sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 6 * 4 &&
-                  sizeof(PfLight) == 20 * 4 && sizeof(PfLightNode) == 12 * 4 &&
-                  sizeof(PfSceneGlobals) == (36 + 256 + 1024) * 4 &&
+                  sizeof(PfLight) == 20 * 4 && sizeof(PfLightNode) == 48 * 4 &&
+                  sizeof(PfSceneGlobals) == (42 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
               "device structs are packed 4-byte fields (device_types.h)");
 
@@ -142,18 +148,20 @@ Bounds3f instance_bounds(const BvhNode& root, const Mat4& transform) {
     return b;
 }
 
-PfLightNode device_light_node(const LightTree::Node& node) {
-    PfLightNode d{};
-    const PackedLightBounds& b = node.bounds;
-    std::copy(b.center, b.center + 3, d.center);
-    std::copy(b.axis, b.axis + 3, d.axis);
-    d.radius2 = b.radius2;
-    d.cos_theta_o = b.cos_theta_o;
-    d.sin_theta_o = b.sin_theta_o;
-    d.power = b.power;
-    d.flags = b.flags;
-    d.child_or_emitter = node.child_or_emitter;
-    return d;
+// The wide nodes as they are (the same layout: static_assert above) and the root's bounds.
+void pack_light_tree(const LightTree& tree, PackedScene& out) {
+    out.light_nodes.resize(tree.wide_nodes().size());
+    if (!out.light_nodes.empty())
+        std::memcpy(out.light_nodes.data(), tree.wide_nodes().data(),
+                    out.light_nodes.size() * sizeof(PfLightNode));
+    PfSceneGlobals& g = out.globals;
+    g.light_tree = tree.empty() ? 0u : 1u;
+    if (tree.empty()) return;
+    const PackedLightBounds& root = tree.root_bounds();
+    std::copy(root.center, root.center + 3, g.light_root_center);
+    g.light_root_radius2 = root.radius2;
+    g.light_root_cos_theta_o = root.cos_theta_o;
+    g.light_root_leaf = tree.is_leaf(0) ? 1u : 0u;
 }
 
 }  // namespace
@@ -186,13 +194,11 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
         }
         out.lights.push_back(l);
     }
-    for (const LightTree::Node& node : tree.nodes())
-        out.light_nodes.push_back(device_light_node(node));
+    pack_light_tree(tree, out);
     for (uint32_t i = 0; i < out.instances.size(); ++i)
         out.instances[i].first_light = int32_t(lights.first_light_of(i));
     PfSceneGlobals& g = out.globals;
     g.light_count = uint32_t(out.lights.size());
-    g.light_tree = tree.empty() ? 0u : 1u;
     g.p_environment = lights.environment_probability();
     g.has_environment = lights.has_environment() ? 1u : 0u;
     if (const SunSky* sky = lights.sun_sky()) {

@@ -124,23 +124,24 @@ typedef struct {
     pf_uint instance;
     pf_uint prim;
     pf_int material;
-    // Its path from the light tree's root (LightTree::trails): bit d set = second child at
-    // depth d; bits 0-31 in trail_lo.
+    // Its path from the light tree's wide root (LightTree::trails): two bits per depth, the
+    // slot taken; bits 0-31 in trail_lo.
     pf_uint trail_lo;
     pf_uint trail_hi;
     float tree_share;  // LightTree::leaf_shares: its probability once its leaf is chosen
 } PfLight;
 
-// A light tree node (LightTree::Node: PackedLightBounds, then the child or emitter).
+// A wide light tree node (LightTree::WideNode): four slots' bounds side by side, then each
+// slot's flags and child (a wide node, or a leaf's first emitter). Unused slots: power zero.
 typedef struct {
-    float center[3];
-    float radius2;
-    float axis[3];
-    float cos_theta_o;
-    float sin_theta_o;
-    float power;
-    pf_uint flags;  // PF_LIGHT_TWO_SIDED, PF_LIGHT_LEAF
-    pf_uint child_or_emitter;
+    float center[3][4];
+    float radius2[4];
+    float axis[3][4];
+    float cos_theta_o[4];
+    float sin_theta_o[4];
+    float power[4];
+    pf_uint flags[4];  // PF_LIGHT_TWO_SIDED, PF_LIGHT_LEAF, PF_LIGHT_PAIR
+    pf_uint child[4];
 } PfLightNode;
 
 #define PF_LIGHT_TWO_SIDED 1u  // kPackedTwoSided
@@ -171,6 +172,12 @@ typedef struct {
     pf_uint has_environment;
     pf_uint light_count;
     pf_uint light_tree;  // nonzero: emitters are chosen through light_nodes (LightSelection)
+    // The whole tree's bounds (LightTree::root_bounds), for the distant switch at the root;
+    // light_root_leaf: the binary tree is one leaf (no importance to weigh).
+    float light_root_center[3];
+    float light_root_radius2;
+    float light_root_cos_theta_o;
+    pf_uint light_root_leaf;
     pf_uint instance_count;
     // sRGB-encoded byte -> linear, the host's table (common/scene/texture.cpp): a pow() per
     // channel per texel took a third of the time on PoCL.

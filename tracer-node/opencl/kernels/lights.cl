@@ -60,34 +60,38 @@ bool pf_lights_empty(__global const PfSceneGlobals* g) {
     return g->light_count == 0 && g->has_environment == 0u;
 }
 
-// The light tree (common/render/light_tree.cpp, light_bounds.h): the same importance bound,
-// descent and distant-node switch to power, so both backends choose emitters alike.
+// The light tree (common/render/light_tree.cpp, light_bounds.h): the same importance bound
+// per slot of a wide node, descent and distant-node switch to power, so both backends choose
+// emitters alike.
 float pf_cos_subtract_clamped(float cos_a, float sin_a, float cos_b, float sin_b) {
     return cos_a >= cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
 }
 
-float pf_light_importance(__global const PfLightNode* b, float3 p, float3 n) {
-    if (!(b->power > 0.0f)) return 0.0f;
-    const float3 to_p = p - pf_vec3(b->center);
+float pf_light_importance(__global const PfLightNode* b, int k, float3 p, float3 n) {
+    const float power = b->power[k];
+    if (!(power > 0.0f)) return 0.0f;
+    const float radius2 = b->radius2[k];
+    const float3 to_p = p - (float3)(b->center[0][k], b->center[1][k], b->center[2][k]);
     const float dist2 = dot(to_p, to_p);
     const float inv_dist = dist2 > 0.0f ? 1.0f / sqrt(dist2) : 0.0f;
     float cos_b = -1.0f, sin_b = 0.0f;
-    if (dist2 > b->radius2) {
-        const float sin2 = b->radius2 * inv_dist * inv_dist;
+    if (dist2 > radius2) {
+        const float sin2 = radius2 * inv_dist * inv_dist;
         sin_b = sqrt(sin2);
         cos_b = sqrt(fmax(0.0f, 1.0f - sin2));
     }
-    float cos_w = dot(pf_vec3(b->axis), to_p) * inv_dist;
-    if ((b->flags & PF_LIGHT_TWO_SIDED) != 0u) cos_w = fabs(cos_w);
+    float cos_w = dot((float3)(b->axis[0][k], b->axis[1][k], b->axis[2][k]), to_p) * inv_dist;
+    if ((b->flags[k] & PF_LIGHT_TWO_SIDED) != 0u) cos_w = fabs(cos_w);
+    const float cos_o = b->cos_theta_o[k], sin_o = b->sin_theta_o[k];
     float cos_wo = 1.0f, sin_wo = 0.0f;
-    if (cos_w < b->cos_theta_o) {
+    if (cos_w < cos_o) {
         const float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
-        cos_wo = cos_w * b->cos_theta_o + sin_w * b->sin_theta_o;
-        sin_wo = fmax(0.0f, sin_w * b->cos_theta_o - cos_w * b->sin_theta_o);
+        cos_wo = cos_w * cos_o + sin_w * sin_o;
+        sin_wo = fmax(0.0f, sin_w * cos_o - cos_w * sin_o);
     }
     const float cos_x = pf_cos_subtract_clamped(cos_wo, sin_wo, cos_b, sin_b);
     if (!(cos_x > 0.0f)) return 0.0f;
-    float result = b->power * cos_x / fmax(fmax(dist2, b->radius2), 1e-20f);
+    float result = power * cos_x / fmax(fmax(dist2, radius2), 1e-20f);
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
         const float cos_i = fabs(dot(to_p, n)) * inv_dist;
         if (cos_i < cos_b) result *= cos_i * cos_b + sqrt(fmax(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
@@ -95,65 +99,88 @@ float pf_light_importance(__global const PfLightNode* b, float3 p, float3 n) {
     return isfinite(result) ? result : 0.0f;
 }
 
-bool pf_light_distant(__global const PfLightNode* b, float3 p) {
-    const float3 d = p - pf_vec3(b->center);
-    return b->radius2 < PF_LIGHT_DISTANT_SIN2 * dot(d, d) && b->cos_theta_o > PF_LIGHT_DISTANT_COS;
+bool pf_light_distant(float3 center, float radius2, float cos_theta_o, float3 p) {
+    const float3 d = p - center;
+    return radius2 < PF_LIGHT_DISTANT_SIN2 * dot(d, d) && cos_theta_o > PF_LIGHT_DISTANT_COS;
 }
 
-// LightTree::first_child_probability.
-float pf_first_child_probability(const PfScene* s, uint i, float3 p, float3 n, bool* by_power) {
-    __global const PfLightNode* a = &s->light_nodes[i + 1];
-    __global const PfLightNode* b = &s->light_nodes[s->light_nodes[i].child_or_emitter];
+bool pf_light_slot_distant(__global const PfLightNode* b, int k, float3 p) {
+    return pf_light_distant((float3)(b->center[0][k], b->center[1][k], b->center[2][k]),
+                            b->radius2[k], b->cos_theta_o[k], p);
+}
+
+bool pf_light_root_by_power(__global const PfSceneGlobals* g, float3 p) {
+    return g->light_root_leaf != 0u ||
+           pf_light_distant(pf_vec3(g->light_root_center), g->light_root_radius2,
+                            g->light_root_cos_theta_o, p);
+}
+
+// LightTree::slot_weights.
+float pf_slot_weights(__global const PfLightNode* b, float3 p, float3 n, bool* by_power,
+                      float* weight) {
     if (!*by_power) {
-        const float i0 = pf_light_importance(a, p, n), i1 = pf_light_importance(b, p, n);
-        if (i0 + i1 > 0.0f) return i0 / (i0 + i1);
+        for (int k = 0; k < 4; ++k)
+            weight[k] = pf_light_importance(b, k, p, n);
+        const float total = (weight[0] + weight[1]) + (weight[2] + weight[3]);
+        if (total > 0.0f) return total;
         *by_power = true;
     }
-    return a->power + b->power > 0.0f ? a->power / (a->power + b->power) : -1.0f;
+    for (int k = 0; k < 4; ++k)
+        weight[k] = fmax(0.0f, b->power[k]);
+    return (weight[0] + weight[1]) + (weight[2] + weight[3]);
 }
 
 bool pf_light_tree_sample(const PfScene* s, float3 p, float3 n, float u, uint* emitter,
                           float* pmf_out) {
-    uint i = 0;
+    bool by_power = pf_light_root_by_power(s->globals, p);
     float pmf = 1.0f;
-    bool by_power = (s->light_nodes[0].flags & PF_LIGHT_LEAF) != 0u ||
-                    pf_light_distant(&s->light_nodes[0], p);
-    while ((s->light_nodes[i].flags & PF_LIGHT_LEAF) == 0u) {
-        const float p0 = pf_first_child_probability(s, i, p, n, &by_power);
-        if (p0 < 0.0f) return false;
-        if (u < p0) {
-            i = i + 1;
-            pmf *= p0;
-            u = fmin(u / p0, 0x1.fffffep-1f);
-        } else {
-            i = s->light_nodes[i].child_or_emitter;
-            pmf *= 1.0f - p0;
-            u = fmin((u - p0) / (1.0f - p0), 0x1.fffffep-1f);
+    for (uint node = 0;;) {
+        __global const PfLightNode* b = &s->light_nodes[node];
+        float weight[4];
+        const float total = pf_slot_weights(b, p, n, &by_power, weight);
+        if (!(total > 0.0f)) return false;
+        const float target = u * total;
+        int slot = -1;
+        float below = 0.0f, lower = 0.0f;
+        for (int k = 0; k < 4; ++k) {
+            if (!(weight[k] > 0.0f)) continue;
+            slot = k;
+            lower = below;
+            below += weight[k];
+            if (target < below) break;
         }
-        by_power = by_power || pf_light_distant(&s->light_nodes[i], p);
+        pmf *= weight[slot] / total;
+        u = clamp((target - lower) / weight[slot], 0.0f, 0x1.fffffep-1f);
+        if ((b->flags[slot] & PF_LIGHT_LEAF) != 0u) {
+            uint k = b->child[slot];
+            if ((b->flags[slot] & PF_LIGHT_PAIR) != 0u && !(u < s->lights[k].tree_share)) ++k;
+            *emitter = k;
+            *pmf_out = pmf * s->lights[k].tree_share;
+            return true;
+        }
+        by_power = by_power || pf_light_slot_distant(b, slot, p);
+        node = b->child[slot];
     }
-    uint k = s->light_nodes[i].child_or_emitter;
-    if ((s->light_nodes[i].flags & PF_LIGHT_PAIR) != 0u && !(u < s->lights[k].tree_share)) ++k;
-    *emitter = k;
-    *pmf_out = pmf * s->lights[k].tree_share;
-    return true;
 }
 
 float pf_light_tree_pmf(const PfScene* s, float3 p, float3 n, uint emitter) {
     __global const PfLight* light = &s->lights[emitter];
-    uint i = 0;
+    bool by_power = pf_light_root_by_power(s->globals, p);
     float pmf = light->tree_share;
-    bool by_power = (s->light_nodes[0].flags & PF_LIGHT_LEAF) != 0u ||
-                    pf_light_distant(&s->light_nodes[0], p);
-    for (uint d = 0; (s->light_nodes[i].flags & PF_LIGHT_LEAF) == 0u; ++d) {
-        const float p0 = pf_first_child_probability(s, i, p, n, &by_power);
-        if (p0 < 0.0f) return 0.0f;
-        const uint bit = d < 32u ? (light->trail_lo >> d) & 1u : (light->trail_hi >> (d - 32u)) & 1u;
-        pmf *= bit != 0u ? 1.0f - p0 : p0;
-        i = bit != 0u ? s->light_nodes[i].child_or_emitter : i + 1;
-        by_power = by_power || pf_light_distant(&s->light_nodes[i], p);
+    for (uint node = 0, d = 0;; ++d) {
+        __global const PfLightNode* b = &s->light_nodes[node];
+        float weight[4];
+        const float total = pf_slot_weights(b, p, n, &by_power, weight);
+        if (!(total > 0.0f)) return 0.0f;
+        const uint shift = 2u * d;
+        const int slot = (int)((shift < 32u ? light->trail_lo >> shift
+                                            : light->trail_hi >> (shift - 32u)) & 3u);
+        if (!(weight[slot] > 0.0f)) return 0.0f;
+        pmf *= weight[slot] / total;
+        if ((b->flags[slot] & PF_LIGHT_LEAF) != 0u) return pmf;
+        by_power = by_power || pf_light_slot_distant(b, slot, p);
+        node = b->child[slot];
     }
-    return pmf;
 }
 
 bool pf_sample_light(const PfScene* s, float3 from, float3 normal, float u_select, float2 u,

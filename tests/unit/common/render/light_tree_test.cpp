@@ -179,15 +179,16 @@ TEST(LightTree, SamplingFrequenciesFollowThePmf) {
     }
 }
 
-// Every emitter's path from the root (its trail) ends at its own leaf, and every node on the
-// way bounds it: box, cone and power.
+// Every emitter's path from the wide root (its trail) ends at its own leaf, and every slot on
+// the way bounds it: box, cone and power.
 void expect_ancestors_bound(const LightTree& tree, const std::vector<Emitter>& emitters,
                             uint32_t seed) {
     for (uint32_t e = 0; e < emitters.size(); ++e) {
         const LightBounds own = emitters[e].bounds();
         std::size_t node = 0;
         for (int d = 0;; ++d) {
-            const LightBounds b = tree.bounds(node);
+            const int slot = int((tree.trails()[e] >> (2 * d)) & 3u);
+            const LightBounds b = tree.bounds(node, slot);
             if (own.power > 0.0f) {
                 const float slack = 1e-5f * (1.0f + max_component(glm::abs(b.box.upper)));
                 EXPECT_TRUE(glm::all(glm::lessThanEqual(b.box.lower, own.box.lower + slack)) &&
@@ -198,15 +199,16 @@ void expect_ancestors_bound(const LightTree& tree, const std::vector<Emitter>& e
                 EXPECT_GE(b.power, own.power * (1.0f - 1e-5f));
                 EXPECT_TRUE(b.two_sided || !own.two_sided);
             }
-            if (tree.is_leaf(node)) {
-                const uint32_t held = tree.nodes()[node].child_or_emitter;
-                const bool pair = (tree.nodes()[node].bounds.flags & LightTree::kPair) != 0;
+            const LightTree::WideNode& w = tree.wide_nodes()[node];
+            if (w.flags[slot] & LightTree::kLeaf) {
+                const uint32_t held = w.child[slot];
+                const bool pair = (w.flags[slot] & LightTree::kPair) != 0;
                 ASSERT_TRUE(held == e || (pair && held + 1 == e));
-                ASSERT_EQ(d, tree.depths()[e]);
+                ASSERT_EQ(d + 1, tree.depths()[e]);
                 break;
             }
-            ASSERT_LT(d, LightTree::kMaxDepth);
-            node = (tree.trails()[e] >> d) & 1u ? tree.nodes()[node].child_or_emitter : node + 1;
+            ASSERT_LT(d, LightTree::kMaxDepth / 2);
+            node = w.child[slot];
         }
     }
 }
@@ -264,6 +266,38 @@ TEST(LightTree, AQuadLightIsOneLeafChosenByPower) {
             EXPECT_EQ(mixed.trails()[e], mixed.trails()[partner]) << "seed " << seed;
             EXPECT_EQ(mixed.depths()[e], mixed.depths()[partner]) << "seed " << seed;
             EXPECT_FLOAT_EQ(mixed.leaf_shares()[e] + mixed.leaf_shares()[partner], 1.0f);
+        }
+    }
+}
+
+// The descent weighs four slots at once (SIMD); each weight must be importance() of that slot:
+// random bounds (inside and outside their spheres, two-sided, empty, tiny and huge), random
+// receivers with and without a normal.
+TEST(LightTree, WideImportanceIsTheScalarImportanceOfEachSlot) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 20000; ++i) {
+        LightTree::WideNode w{};
+        const float scale = std::pow(10.0f, -3.0f + 6.0f * u(rng));
+        for (int k = 0; k < LightTree::kWidth; ++k) {
+            const Vec3 c = scale * Vec3(u(rng), u(rng), u(rng)), a = random_direction(rng);
+            for (int d = 0; d < 3; ++d) {
+                w.center[d][k] = c[d];
+                w.axis[d][k] = a[d];
+            }
+            w.radius2[k] = scale * scale * u(rng) * u(rng);
+            w.cos_theta_o[k] = u(rng) < 0.3f ? 1.0f : 2.0f * u(rng) - 1.0f;
+            w.sin_theta_o[k] = std::sqrt(1.0f - w.cos_theta_o[k] * w.cos_theta_o[k]);
+            w.power[k] = u(rng) < 0.15f ? 0.0f : std::pow(10.0f, -3.0f + 6.0f * u(rng));
+            w.flags[k] = u(rng) < 0.3f ? kPackedTwoSided : 0u;
+        }
+        const Vec3 p = scale * Vec3(2.0f * u(rng), 2.0f * u(rng), 2.0f * u(rng)) - Vec3(scale / 2);
+        const Vec3 n = u(rng) < 0.2f ? Vec3(0.0f) : random_direction(rng);
+        float wide[LightTree::kWidth];
+        wide_importance(w, p, n, wide);
+        for (int k = 0; k < LightTree::kWidth; ++k) {
+            const float scalar = importance(slot_bounds(w, k), p, n);
+            ASSERT_NEAR(wide[k], scalar, 1e-6f * scalar) << "case " << i << " slot " << k;
         }
     }
 }
