@@ -189,6 +189,12 @@ Result<SceneModel> load_or_report(const std::string& path) {
 
 int main(int argc, char** argv) {
     init_logging("pathfarm-accel-bench", "error");  // logs go to stderr; stdout is the CSV
+    if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+        std::printf("usage: pathfarm-accel-bench [SCENES_DIR]\nPrints CSV (measure, count, "
+                    "median_ms, per_1000_ms): BVH build and refit, skinned updates, sealed-"
+                    "emitter analysis and the light tree. SCENES_DIR: ../shared/scenes.\n");
+        return 0;
+    }
     const std::string scenes = argc > 1 ? argv[1] : "../shared/scenes";
     auto dragon = load_or_report(scenes + "/stanford-dragon/dragon_vrip.ply.gz");
     auto man = load_or_report(scenes + "/cesium-man/CesiumMan.gltf");

@@ -72,7 +72,7 @@ def plot(a, rows_csv, png):
 set datafile separator ','
 set terminal pngcairo size 1100,480
 set output '{png}'
-set multiplot layout 1,2 title 'Light tree vs power sampling ({a.width}x{a.height}, relative MSE against {a.ref_spp} spp)'
+set multiplot layout 1,2 title 'Light selection: power, tree, tree + RIS ({a.width}x{a.height}, relative MSE against {a.ref_spp} spp)'
 set logscale xy
 set xlabel 'render seconds'
 set ylabel 'relative MSE'
