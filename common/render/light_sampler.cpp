@@ -26,7 +26,7 @@ Rgb mean_emission_texel(const Image* image) {
 }  // namespace
 
 LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded,
-                           LightSelection selection, LightSampler* previous)
+                           LightSelection selection, LightTopologyCache* topology)
     : shading_(shading), selection_(selection) {
     const SceneModel& scene = shading.model();
     instance_offset_.assign(scene.instances.size(), -1);
@@ -65,30 +65,33 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
         cdf_[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(power.size());
     }
     if (!cdf_.empty()) cdf_.back() = 1.0f;
-    if (selection == LightSelection::tree) make_tree(bounds, previous);
+    if (selection == LightSelection::tree) {
+        LightTopologyCache local;
+        make_tree(bounds, topology ? *topology : local);
+    }
     if (uses_sun_sky(scene)) {
         sun_sky_ = std::make_unique<SunSky>(scene.environment);
         p_environment_ = triangles_.empty() ? 1.0f : 0.5f;
     }
 }
 
-void LightSampler::make_tree(const std::vector<LightBounds>& bounds, LightSampler* previous) {
-    const bool same_emitters =
-        previous && previous->selection_ == LightSelection::tree && !previous->tree_.empty() &&
-        previous->triangles_.size() == triangles_.size() &&
-        std::equal(triangles_.begin(), triangles_.end(), previous->triangles_.begin(),
-                   [](const EmissiveTriangle& a, const EmissiveTriangle& b) {
-                       return a.instance == b.instance && a.prim == b.prim;
-                   });
-    if (same_emitters) {
-        tree_ = std::move(previous->tree_);
-        tree_.refit(bounds);
-        tree_built_cost_ = previous->tree_built_cost_;
-        tree_refitted_ = tree_.cost() <= kRefitCostLimit * tree_built_cost_;
-        if (tree_refitted_) return;
+void LightSampler::make_tree(const std::vector<LightBounds>& bounds, LightTopologyCache& topology) {
+    if (bounds.size() < kClusteredFrom) {
+        tree_ = LightTree(bounds);
+        return;
     }
-    tree_ = LightTree(bounds);
-    tree_built_cost_ = tree_.cost();
+    const SceneModel& scene = shading_.model();
+    std::vector<LightTree::Cluster> clusters;
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        if (instance_offset_[i] < 0) continue;
+        const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+        const LightTree& mesh_tree =
+            topology.mesh_tree(mesh, scene.materials[mesh.material].double_sided);
+        for (const LightTree::Cluster& c : mesh_tree.clusters(uint32_t(instance_offset_[i])))
+            clusters.push_back(c);
+    }
+    tree_ = LightTree(bounds, clusters);
+    topology.end_state();
 }
 
 float LightSampler::selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const {

@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "common/render/light_topology.h"
 #include "common/render/light_tree.h"
 #include "common/render/shading_scene.h"
 #include "common/render/sun_sky.h"
@@ -32,14 +33,15 @@ class LightSampler {
 public:
     // Instances flagged in `excluded` (indexed like SceneModel::instances) are not sampled:
     // emitters that cannot contribute (SealedEmitters).
-    // `previous`: the sampler of the scene's last state. When the same emitters are lit (only
-    // moved, turned or deformed), its light tree is refitted rather than built anew, unless
-    // the refit has degraded its cost by more than kRefitCostLimit since its last build. The
-    // tree is taken from `previous` (which keeps its emitter list only).
+    // From kClusteredFrom emitters on, the light tree keeps each emissive mesh's topology
+    // (light_topology.h): from `topology` when given (a backend's, kept across states: a moved
+    // emitter costs a refit and a small top level), else built here; the tree is the same
+    // either way. Below, a build over all emitters costs little and samples better (measured:
+    // docs/performance.md, "Many lights").
     explicit LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded = {},
                           LightSelection selection = LightSelection::power,
-                          LightSampler* previous = nullptr);
-    static constexpr double kRefitCostLimit = 1.25;
+                          LightTopologyCache* topology = nullptr);
+    static constexpr std::size_t kClusteredFrom = 4096;
 
     bool empty() const { return triangles_.empty() && !sun_sky_; }
     // Samples a light as seen from a receiver at `from` with geometric normal `normal` (zero:
@@ -66,12 +68,7 @@ public:
     const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
     const std::vector<float>& cdf() const { return cdf_; }  // normalised cumulative power
     LightSelection selection() const { return selection_; }
-    const LightTree& tree() const { return tree_; }        // empty unless selection() is tree
-    bool tree_refitted() const { return tree_refitted_; }  // reused from `previous`
-    // The tree's cost over its cost when last built (1 for a fresh build).
-    double tree_cost_ratio() const {
-        return tree_built_cost_ > 0.0 ? tree_.cost() / tree_built_cost_ : 1.0;
-    }
+    const LightTree& tree() const { return tree_; }  // empty unless selection() is tree
     float environment_probability() const { return p_environment_; }
     const SunSky* sun_sky() const { return sun_sky_.get(); }
     // Index of the instance's first triangle in triangles(), or -1 if it emits nothing.
@@ -81,14 +78,12 @@ private:
     // The selection probability of emitter k for a receiver at (from, normal).
     float selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const;
 
-    // The light tree over `bounds`: `previous`'s refitted when it holds the same emitters.
-    void make_tree(const std::vector<LightBounds>& bounds, LightSampler* previous);
+    // The light tree over `bounds`: each emissive mesh's clusters, a top level over them.
+    void make_tree(const std::vector<LightBounds>& bounds, LightTopologyCache& topology);
 
     const ShadingScene& shading_;
     LightSelection selection_;
     LightTree tree_;
-    double tree_built_cost_ = 0.0;  // the tree's cost when it was last built
-    bool tree_refitted_ = false;
     std::vector<EmissiveTriangle> triangles_;
     std::vector<float> cdf_;                // cumulative power, normalised to 1
     std::vector<int64_t> instance_offset_;  // first light of each instance, or -1

@@ -51,6 +51,22 @@ public:
     // to it).
     explicit LightTree(std::span<const LightBounds> emitters);
 
+    // A subtree of another tree (a mesh's, built once in mesh space: light_topology.h):
+    // nodes [root, end) of `tree`, whose leaves' emitters are numbered from emitter_offset here.
+    struct Cluster {
+        std::span<const Node> tree;
+        uint32_t root, end;
+        uint32_t emitter_offset;
+    };
+    // The tree over clusters: each cluster's topology kept, its bounds refitted to `emitters`,
+    // and a top level over the clusters built by the same heuristic. A function of the
+    // clusters' topology and the emitters' bounds alone, so a state's tree is the same whether
+    // its clusters were made just now or frames ago (docs/determinism.md item 6).
+    LightTree(std::span<const LightBounds> emitters, std::span<const Cluster> clusters);
+    // Subtrees of at most kClusterUnits leaves that together hold every leaf, in node order.
+    std::vector<Cluster> clusters(uint32_t emitter_offset) const;
+    static constexpr uint32_t kClusterUnits = 16;
+
     // New bounds for the same emitters (moved, deformed or switched): the topology stays.
     void refit(std::span<const LightBounds> emitters);
     // The surface-area-orientation cost summed over interior nodes: a refit tree's cost over a
@@ -93,6 +109,7 @@ private:
                        float weight[kWidth]) const;
     struct Units;
     uint32_t build(std::span<uint32_t> ids, const Units& units, int depth);
+    void splice(const Units& units, uint32_t cluster);
     uint32_t collapse(uint32_t node, int depth, uint64_t trail);
     void collapse_all();
     void set_leaf(std::size_t node, std::span<const LightBounds> emitters);

@@ -175,7 +175,101 @@ struct LightTree::Units {
     std::vector<uint32_t> first;
     std::vector<LightBounds> bounds;
     std::vector<Vec3> centre;
+    // When the units are clusters: each cluster's nodes' bounds from node_base[c] on, and the
+    // emitters their leaves hold.
+    std::span<const Cluster> clusters;
+    std::vector<LightBounds> node_bounds;
+    std::vector<uint32_t> node_base;
+    std::span<const LightBounds> emitters;
 };
+
+namespace {
+
+// A cluster's nodes' bounds over `emitters`, bottom-up (children follow their parent).
+void cluster_bounds(const LightTree::Cluster& c, std::span<const LightBounds> emitters,
+                    LightBounds* out) {
+    for (uint32_t k = c.end - c.root; k-- > 0;) {
+        const LightTree::Node& n = c.tree[c.root + k];
+        if (n.bounds.flags & LightTree::kLeaf) {
+            const uint32_t e = n.child_or_emitter + c.emitter_offset;
+            out[k] = (n.bounds.flags & LightTree::kPair)
+                         ? union_bounds(emitters[e], emitters[e + 1])
+                         : emitters[e];
+        } else {
+            out[k] = union_bounds(out[k + 1], out[n.child_or_emitter - c.root]);
+        }
+    }
+}
+
+// The clusters' own subtrees are at most this deep (kClusterUnits leaves): the top level
+// above them switches to median splits this much earlier, so every path still fits 64 bits.
+constexpr int kClusterDepth = int(LightTree::kClusterUnits) - 1;
+
+}  // namespace
+
+LightTree::LightTree(std::span<const LightBounds> emitters, std::span<const Cluster> clusters) {
+    if (clusters.empty()) return;
+    trail_.assign(emitters.size(), 0);
+    depth_.assign(emitters.size(), 0);
+    share_.assign(emitters.size(), 1.0f);
+    Units units;
+    units.clusters = clusters;
+    units.emitters = emitters;
+    for (const Cluster& c : clusters) {
+        const auto base = uint32_t(units.node_bounds.size());
+        units.node_base.push_back(base);
+        units.node_bounds.resize(base + (c.end - c.root));
+        cluster_bounds(c, emitters, units.node_bounds.data() + base);
+        units.bounds.push_back(units.node_bounds[base]);
+        units.centre.push_back(units.bounds.back().box.center());
+    }
+    nodes_.reserve(units.node_bounds.size() + clusters.size());
+    full_.reserve(units.node_bounds.size() + clusters.size());
+    std::vector<uint32_t> ids(clusters.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    build(ids, units, kClusterDepth);
+    collapse_all();
+}
+
+// Appends cluster c's nodes (its topology, its bounds from `units`), renumbered.
+void LightTree::splice(const Units& units, uint32_t c) {
+    const Cluster& cluster = units.clusters[c];
+    const auto base = uint32_t(nodes_.size());
+    const uint32_t count = cluster.end - cluster.root;
+    nodes_.resize(base + count);
+    full_.resize(base + count);
+    for (uint32_t k = 0; k < count; ++k) {
+        const Node& src = cluster.tree[cluster.root + k];
+        const uint32_t i = base + k;
+        nodes_[i].bounds.flags = src.bounds.flags & (kLeaf | kPair);
+        const bool leaf = (src.bounds.flags & kLeaf) != 0;
+        nodes_[i].child_or_emitter = leaf ? src.child_or_emitter + cluster.emitter_offset
+                                          : base + (src.child_or_emitter - cluster.root);
+        set_bounds(i, units.node_bounds[units.node_base[c] + k]);
+        if (leaf && (src.bounds.flags & kPair))
+            set_shares(nodes_[i].child_or_emitter, units.emitters);
+    }
+}
+
+std::vector<LightTree::Cluster> LightTree::clusters(uint32_t emitter_offset) const {
+    if (nodes_.empty()) return {};
+    std::vector<uint32_t> leaves(nodes_.size());
+    for (std::size_t i = nodes_.size(); i-- > 0;)
+        leaves[i] = is_leaf(i) ? 1u : leaves[i + 1] + leaves[nodes_[i].child_or_emitter];
+    std::vector<Cluster> out;
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+        const uint32_t i = stack.back();
+        stack.pop_back();
+        if (leaves[i] <= kClusterUnits) {  // a full binary subtree: 2 leaves - 1 nodes
+            out.push_back({nodes_, i, i + 2 * leaves[i] - 1, emitter_offset});
+            continue;
+        }
+        stack.push_back(nodes_[i].child_or_emitter);
+        stack.push_back(i + 1);
+    }
+    return out;
+}
 
 LightTree::LightTree(std::span<const LightBounds> emitters) {
     if (emitters.empty()) return;
@@ -204,6 +298,12 @@ uint32_t LightTree::build(std::span<uint32_t> ids, const Units& units, int depth
     const auto node = uint32_t(nodes_.size());
     nodes_.push_back({});
     full_.emplace_back();
+    if (ids.size() == 1 && !units.clusters.empty()) {
+        nodes_.pop_back();
+        full_.pop_back();
+        splice(units, ids[0]);
+        return node;
+    }
     if (ids.size() == 1) {
         const uint32_t first = units.first[ids[0]], end = units.first[ids[0] + 1];
         nodes_[node].bounds.flags = kLeaf | (end - first == 2 ? kPair : 0u);

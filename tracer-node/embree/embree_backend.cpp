@@ -86,11 +86,11 @@ public:
         if (!culled_changed && lights_ && lights_->selection() == job.integrator.light_selection)
             return;
         const std::vector<bool>& excluded = culling_.excluded();
-        // Built from this scene state alone, never refitted from the last one: a refitted tree
-        // samples differently from a fresh one, and every tracer (one that joined late too)
-        // must render a frame's rows bit for bit alike (docs/determinism.md).
-        lights_ =
-            std::make_unique<LightSampler>(*shading_, excluded, job.integrator.light_selection);
+        // The light tree is a function of this state alone (every tracer, one that joined late
+        // too, must render a frame's rows bit for bit alike: docs/determinism.md); the kept
+        // per-mesh topologies make it a refit and a small top level, not a build.
+        lights_ = std::make_unique<LightSampler>(*shading_, excluded,
+                                                 job.integrator.light_selection, &topology_);
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",
@@ -184,6 +184,7 @@ private:
     std::unique_ptr<EmbreeScene> kernel_;
     std::unique_ptr<ShadingScene> shading_;
     LightCulling culling_;
+    LightTopologyCache topology_;  // each emissive mesh's light tree, across states
     std::unique_ptr<LightSampler> lights_;
     const SceneModel* adopted_ = nullptr;  // the model shading_ refers to
 };

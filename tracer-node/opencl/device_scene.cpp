@@ -167,9 +167,9 @@ void pack_light_tree(const LightTree& tree, PackedScene& out) {
 }  // namespace
 
 void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
-                 LightSelection selection, PackedScene& out) {
+                 LightSelection selection, PackedScene& out, LightTopologyCache* topology) {
     const ShadingScene shading(scene);
-    const LightSampler lights(shading, excluded, selection);
+    const LightSampler lights(shading, excluded, selection, topology);
     out.lights.clear();
     out.light_nodes.clear();
     const LightTree& tree = lights.tree();

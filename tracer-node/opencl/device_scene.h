@@ -49,8 +49,10 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
 
 // (Re)fills out.lights, out.light_nodes (the light tree, for LightSelection::tree),
 // out.globals' light fields and the instances' first_light for the emitters not flagged in
-// `excluded` (LightSampler's exclusion); out.instances must be packed.
+// `excluded` (LightSampler's exclusion); out.instances must be packed. `topology`: the
+// per-mesh light trees kept from earlier states (the same tree either way).
 void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
-                 LightSelection selection, PackedScene& out);
+                 LightSelection selection, PackedScene& out,
+                 LightTopologyCache* topology = nullptr);
 
 }  // namespace pathfarm::tracer

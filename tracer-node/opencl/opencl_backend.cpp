@@ -33,6 +33,7 @@ struct OpenClBackend::Impl {
     LightCulling culling;
     PackedScene light_state;  // instances, lights and globals as last uploaded
     LightSelection light_selection = LightSelection::power;  // as last packed
+    LightTopologyCache light_topology;                       // each emissive mesh's light tree
     // Scene buffers (device_types.h PF_SCENE_ARRAYS), then the globals.
 #define PF_DEVICE_ARRAY(name, type) DeviceArray name;
     PF_SCENE_ARRAYS(PF_DEVICE_ARRAY)
@@ -251,7 +252,7 @@ Status OpenClBackend::update_lights(const RenderJob& job) {
     if (!culled_changed && d.light_selection == job.integrator.light_selection) return {};
     const std::vector<bool>& excluded = d.culling.excluded();
     d.light_selection = job.integrator.light_selection;
-    pack_lights(*d.scene, excluded, d.light_selection, d.light_state);
+    pack_lights(*d.scene, excluded, d.light_selection, d.light_state, &d.light_topology);
     spdlog::debug(
         "opencl backend: {} emissive instance(s) sealed off from the camera ({} closed "
         "surface(s))",
