@@ -7,7 +7,7 @@
 # contact sheet to out/.
 # Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10),
 # BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them),
-# OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
+# SCENE (default builtin:default), OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
 # bench/demo_ab.py), COORDINATOR_ARGS (more coordinator arguments, e.g. "--denoise off").
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -26,7 +26,7 @@ pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
-"$bin/coordinator/pathfarm-coordinator" --scene builtin:default --tracer-port 0 --client-port 0 \
+"$bin/coordinator/pathfarm-coordinator" --scene "${SCENE:-builtin:default}" --tracer-port 0 --client-port 0 \
   --width "$width" --height "$height" --spp "$spp" --frames "$frames" --min-tracers 2 \
   --target-fps "$target" --fps "$target" \
   --stats-csv "$out/stats.csv" --tracer-stats-csv "$out/tracers.csv" --stages-csv "$out/stages.csv" \
