@@ -114,6 +114,10 @@ uint64_t SealedEmitters::geometry_hash(const SceneModel& scene) {
 bool SealedEmitters::adopt_translated(const SceneModel& scene) {
     if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
         return false;
+    return translated(scene);
+}
+
+bool SealedEmitters::translated(const SceneModel& scene) {
     std::optional<glm::dvec3> delta;
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Mat4& m = scene.instances[i].transform;
@@ -125,6 +129,46 @@ bool SealedEmitters::adopt_translated(const SceneModel& scene) {
         if (glm::length(d - *delta) > tolerance) return false;
     }
     shift_ = delta.value_or(glm::dvec3(0.0));
+    return true;
+}
+
+bool SealedEmitters::placed_as_analysed(const SceneModel& scene, std::size_t i) const {
+    const Mat4& m = scene.instances[i].transform;
+    return Mat3(m) == linear_[i] && glm::dvec3(Vec3(m[3])) == translation_[i];
+}
+
+bool SealedEmitters::adopt(const SceneModel& scene) {
+    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
+        return false;
+    return translated(scene) || moved_emitters(scene);
+}
+
+bool SealedEmitters::adopt_moved_emitters(const SceneModel& scene) {
+    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
+        return false;
+    return moved_emitters(scene);
+}
+
+bool SealedEmitters::moved_emitters(const SceneModel& scene) {
+    if (shift_ != glm::dvec3(0.0)) return false;
+    std::vector<uint32_t> moved, emitters;
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        if (placed_as_analysed(scene, i)) continue;
+        const Mesh& mesh = scene.meshes[std::size_t(scene.instances[i].mesh)];
+        const Material& m = scene.materials[std::size_t(std::max(mesh.material, 0))];
+        if (is_opaque_occluder(m)) return false;  // the closed surfaces may have changed
+        moved.push_back(i);
+        if (m.is_emissive()) emitters.push_back(i);
+    }
+    for (uint32_t i : moved) {
+        linear_[i] = Mat3(scene.instances[i].transform);
+        translation_[i] = glm::dvec3(Vec3(scene.instances[i].transform[3]));
+    }
+    for (Enclosure& e : enclosures_)
+        for (auto& [instance, side] : e.emitters)
+            if (std::binary_search(emitters.begin(), emitters.end(), instance))
+                side = emitter_side(e, scene.instances[instance],
+                                    scene.meshes[std::size_t(scene.instances[instance].mesh)]);
     return true;
 }
 
@@ -262,8 +306,7 @@ std::vector<bool> SealedEmitters::culled(const Vec3& viewer_now) const {
 }
 
 void LightCulling::set_scene(const SceneModel& scene) {
-    if (!sealed_ || !sealed_->adopt_translated(scene))
-        sealed_ = std::make_unique<SealedEmitters>(scene);
+    if (!sealed_ || !sealed_->adopt(scene)) sealed_ = std::make_unique<SealedEmitters>(scene);
     fresh_ = true;
 }
 

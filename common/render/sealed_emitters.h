@@ -34,6 +34,13 @@ public:
     // analysis is kept and culled() takes viewers in the moved scene's coordinates. Costs a
     // pass over the meshes' bytes instead of a new analysis.
     bool adopt_translated(const SceneModel& scene);
+    // Whether `scene` is the analysed scene with only emitters moved (occluders, geometry and
+    // materials as they were, no translation adopted); if so the closed surfaces are kept and
+    // only the moved emitters' sides are found again (a turning ring of lights: a fraction of
+    // a new analysis).
+    bool adopt_moved_emitters(const SceneModel& scene);
+    // Either of the two (one pass over the geometry).
+    bool adopt(const SceneModel& scene);
 
 private:
     enum class Side : uint8_t { inside, outside, unknown };
@@ -48,6 +55,10 @@ private:
     Side emitter_side(const Enclosure& e, const Instance& inst, const Mesh& mesh) const;
 
     static uint64_t geometry_hash(const SceneModel& scene);
+    bool placed_as_analysed(const SceneModel& scene, std::size_t instance) const;
+    // adopt_translated and adopt_moved_emitters once the geometry is known to be the same.
+    bool translated(const SceneModel& scene);
+    bool moved_emitters(const SceneModel& scene);
 
     std::size_t instance_count_ = 0;
     std::vector<Enclosure> enclosures_;
@@ -63,7 +74,8 @@ private:
 // for the current camera, recomputed only when the camera or the scene changed.
 class LightCulling {
 public:
-    // Adopts the previous analysis when the scene only moved as a whole, else analyses it.
+    // Adopts the previous analysis when the scene only moved as a whole or only emitters
+    // moved (SealedEmitters::adopt), else analyses it.
     void set_scene(const SceneModel& scene);
     // The excluded set for a camera at `eye` (none when !enabled); true when it changed since
     // the last call, i.e. the light sampler must be rebuilt.

@@ -121,6 +121,48 @@ TEST(SealedEmitters, KeepsTheAnalysisWhenTheWholeSceneIsTranslated) {
     EXPECT_FALSE(SealedEmitters(scene).adopt_translated(glass));
 }
 
+// What a turning ring of lights does each frame: only emitters move. The closed surfaces are
+// kept and only the moved emitters' sides found again; the result equals a new analysis.
+TEST(SealedEmitters, KeepsTheClosedSurfacesWhenOnlyEmittersMove) {
+    const SceneModel scene = make_sealed_lights_scene();
+    std::size_t panel = 0, lamp = 0, occluder = 0;
+    for (std::size_t i = scene.instances.size(); i-- > 0;) {
+        const Material& m = scene.materials[std::size_t(
+            scene.meshes[std::size_t(scene.instances[i].mesh)].material)];
+        if (is_panel(scene, i))
+            panel = i;
+        else if (is_emissive(scene, i))
+            lamp = i;
+        else if (!(m.transmission_factor > 0.0f) && !m.alpha_tested())
+            occluder = i;
+    }
+    ASSERT_TRUE(is_panel(scene, panel) && is_emissive(scene, lamp) &&
+                !is_emissive(scene, occluder));
+    SceneModel moved = scene;  // a panel from next door into the camera's room, the lamp out
+    moved.instances[panel].transform =
+        glm::translate(Mat4(1.0f), Vec3(-5.0f, 0.0f, 0.0f)) * moved.instances[panel].transform;
+    moved.instances[lamp].transform =
+        glm::translate(Mat4(1.0f), Vec3(5.0f, 0.0f, 0.0f)) * moved.instances[lamp].transform;
+    SealedEmitters sealed(scene);
+    ASSERT_TRUE(sealed.adopt_moved_emitters(moved));
+    const SealedEmitters fresh(moved);
+    for (const Vec3& viewer : {eye(scene), Vec3(5.0f, 1.5f, 0.0f), Vec3(2.5f, 1.5f, 0.0f)})
+        EXPECT_EQ(sealed.culled(viewer), fresh.culled(viewer));
+    EXPECT_FALSE(sealed.culled(eye(scene))[panel]) << "the panel is in the camera's room now";
+    EXPECT_TRUE(sealed.culled(eye(scene))[lamp]) << "the lamp is next door now";
+
+    SceneModel wall_moved = moved;
+    wall_moved.instances[occluder].transform = glm::translate(Mat4(1.0f), Vec3(0.0f, 0.5f, 0.0f)) *
+                                               wall_moved.instances[occluder].transform;
+    EXPECT_FALSE(SealedEmitters(moved).adopt_moved_emitters(wall_moved));
+    SealedEmitters shifted(scene);
+    SceneModel all_moved = scene;
+    for (Instance& inst : all_moved.instances)
+        inst.transform = glm::translate(Mat4(1.0f), Vec3(1.0f, 0.0f, 0.0f)) * inst.transform;
+    ASSERT_TRUE(shifted.adopt_translated(all_moved));
+    EXPECT_FALSE(shifted.adopt_moved_emitters(all_moved)) << "not after a translation";
+}
+
 TEST(LightCulling, RecomputesOnlyWhenTheCameraOrTheSceneChanges) {
     const SceneModel scene = make_sealed_lights_scene();
     LightCulling culling;
