@@ -8,7 +8,8 @@
 # Environment: FRAMES (default 100), WIDTH x HEIGHT (320x180), SPP (max, 4), TARGET_FPS (10),
 # BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them),
 # SCENE (default builtin:default), OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
-# bench/demo_ab.py), COORDINATOR_ARGS (more coordinator arguments, e.g. "--denoise off").
+# bench/demo_ab.py), COORDINATOR_ARGS (more coordinator arguments, e.g. "--denoise off"),
+# TRACER_ARGS (more tracer arguments, e.g. "--log-level debug").
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if [ -z "${BIN:-}" ]; then
@@ -44,7 +45,7 @@ read -r -a backends <<< "${BACKENDS:-embree embree}"
 names=(tracer-a tracer-b)
 for i in 0 1; do
   "$bin/tracer-node/pathfarm-tracer" --coordinator "127.0.0.1:$tracer_port" --name "${names[$i]}" \
-    --backend "${backends[$i]:-embree}" --threads 1 --max-reconnects 0 > "$out/${names[$i]}.log" 2>&1 &
+    --backend "${backends[$i]:-embree}" --threads 1 --max-reconnects 0 ${TRACER_ARGS:-} > "$out/${names[$i]}.log" 2>&1 &
   pids+=($!)
 done
 wait "$coordinator" || { echo "demo: the coordinator failed:"; tail -5 "$out/coordinator.log"; exit 1; }
