@@ -127,9 +127,9 @@ std::vector<Param> params() {
         for (LightSelection selection : {LightSelection::power, LightSelection::tree})
             for (tracer::BackendKind backend : test::built_backends())
                 out.push_back({i, backend, selection});
-        // Resampled light selection over a quarter of the cases: any weighting error shows as
+        // Resampled light selection over an eighth of the cases: any weighting error shows as
         // light-only sampling disagreeing with BSDF-only.
-        if (i % 4 == 0)
+        if (i % 8 == 0)
             for (tracer::BackendKind backend : test::built_backends())
                 out.push_back({i, backend, LightSelection::tree, 4});
     }
