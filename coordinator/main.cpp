@@ -14,6 +14,7 @@
 #include "coordinator/animation/skinning.h"
 #include "coordinator/export/obj_export.h"
 #include "coordinator/frame/farm_stats.h"
+#include "coordinator/http/http_routes.h"
 #include "coordinator/offline/offline_driver.h"
 #include "coordinator/session/farm_coordinator.h"
 
@@ -73,11 +74,35 @@ int offline(pathfarm::SceneModel scene, const std::string& clip_name,
     return 0;
 }
 
-int farm(pathfarm::SceneModel scene, const std::string& clip_name, const std::string& secret_file,
-         pathfarm::coord::FarmOptions f) {
-    auto secret = pathfarm::net::load_secret(secret_file);
+// Everything the command line asks for.
+struct Command {
+    std::string scene_spec, export_path, clip_name, secret_file, stats_csv, http_token_file;
+    double export_at = 0.0, fps = 30.0;
+    int frames = -1;
+    bool offline_mode = false, no_converge = false;
+    std::string denoise = "on", light_sampler = "tree";
+    pathfarm::coord::OfflineOptions o;
+    pathfarm::coord::FarmOptions f;
+    CLI::Option* tracer_port = nullptr;
+    CLI::Option* http_port = nullptr;
+    uint16_t http_port_value = 0;
+};
+
+int farm(pathfarm::SceneModel scene, const Command& c, pathfarm::coord::FarmOptions f) {
+    auto secret = pathfarm::net::load_secret(c.secret_file);
     if (!secret) return fail(secret.error());
     f.secret = *secret;
+    if (c.http_port->count() > 0) {  // the browser's token: a fixed one, or a new one each run
+        f.http_port = c.http_port_value;
+        auto token = c.http_token_file.empty()
+                         ? pathfarm::Result<std::string>(pathfarm::coord::random_token())
+                         : pathfarm::coord::read_token_file(c.http_token_file);
+        if (!token) return fail(token.error());
+        f.http_token = *token;
+    } else if (!c.http_token_file.empty()) {
+        return fail({pathfarm::ErrorCode::invalid_argument, "--http-token-file needs --http-port"});
+    }
+    const std::string& clip_name = c.clip_name;
     auto clip = clip_index(scene, clip_name);
     if (!clip) return fail(clip.error());
     f.clip = *clip;
@@ -86,18 +111,6 @@ int farm(pathfarm::SceneModel scene, const std::string& clip_name, const std::st
     if (auto s = pathfarm::coord::run_farm(std::move(scene), f, g_stop); !s) return fail(s.error());
     return 0;
 }
-
-// Everything the command line asks for.
-struct Command {
-    std::string scene_spec, export_path, clip_name, secret_file, stats_csv;
-    double export_at = 0.0, fps = 30.0;
-    int frames = -1;
-    bool offline_mode = false, no_converge = false;
-    std::string denoise = "on", light_sampler = "tree";
-    pathfarm::coord::OfflineOptions o;
-    pathfarm::coord::FarmOptions f;
-    CLI::Option* tracer_port = nullptr;
-};
 
 std::string columns(std::string_view list) { return " (columns: " + std::string(list) + ")"; }
 
@@ -151,6 +164,12 @@ void add_farm_options(CLI::App& app, Command& c) {
         ->capture_default_str();
     app.add_option("--min-tracers", f.min_tracers, "Tracers to wait for before the first frame")
         ->capture_default_str();
+    c.http_port =
+        app.add_option("--http-port", c.http_port_value,
+                       "HTTP port (0: any): the browser client, /metrics, /healthz; "
+                       "its URL with the access token is printed at start (default: off)");
+    app.add_option("--http-token-file", c.http_token_file,
+                   "File holding the HTTP port's access token (default: a random one per run)");
 }
 
 void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
@@ -232,7 +251,7 @@ int run(Command& c) {
         c.f.converge = !c.no_converge;
         c.f.denoise = c.denoise == "on";
         c.f.light_tree = c.light_sampler == "tree";
-        return farm(std::move(*scene), c.clip_name, c.secret_file, c.f);
+        return farm(std::move(*scene), c, c.f);
     }
     c.o.frames = c.frames < 0 ? 60 : c.frames;
     c.o.fps = c.fps;

@@ -37,6 +37,7 @@ RESTRICTED = {
     "asio": ["common/net/", "coordinator/session/", "tracer-node/", "client/", "tests/", "bench/"],
     "SDL": ["client/", "tests/"],
     "turbojpeg.h": ["common/film/jpeg_codec.cpp"],
+    "websocketpp/": ["coordinator/http/web_server.cpp"],
 }
 
 # quoted project headers that only some files may include

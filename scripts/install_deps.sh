@@ -11,6 +11,7 @@ PACKAGES=(
   libasio-dev libprotobuf-dev protobuf-compiler libssl-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   gnuplot-nox libturbojpeg0-dev libsdl2-dev xvfb xauth xdotool
+  libwebsocketpp-dev python3-prometheus-client python3-websocket chromium
 )
 
 missing=()

@@ -27,6 +27,11 @@ struct PlayerInput {
     bool action = false;
 };
 
+// An input as the game may take it from the network: at most 10 m and half a turn per input,
+// non-finite values none (a hostile or broken client cannot teleport the camera or turn it
+// into NaN). Poses are the decoder's to check (only finite ones are decoded).
+PlayerInput bounded_input(PlayerInput raw);
+
 class Game {
 public:
     virtual ~Game() = default;

@@ -2,51 +2,111 @@
 #include "coordinator/session/client_hub.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include <spdlog/spdlog.h>
 
 #include "common/wire/messages.h"
+#include "coordinator/http/web_port.h"
+#include "coordinator/http/web_protocol.h"
 
 namespace pathfarm::coord {
+namespace {
 
-PlayerInput bounded_input(const wire::Input& in) {
+PlayerInput player_input(const wire::Input& in) {
     PlayerInput input;
     input.sequence = in.sequence;
     input.action = in.action;
     input.camera_to_world = in.camera_to_world;  // decode_input keeps finite poses only
-    for (std::size_t k = 0; k < std::min<std::size_t>(in.move.size(), input.move.size()); ++k) {
-        const float limit = k < 3 ? 10.0f : 3.14159265f;
-        input.move[k] = std::isfinite(in.move[k]) ? std::clamp(in.move[k], -limit, limit) : 0.0f;
-    }
-    return input;
+    for (std::size_t k = 0; k < std::min<std::size_t>(in.move.size(), input.move.size()); ++k)
+        input.move[k] = in.move[k];
+    return bounded_input(input);
 }
 
+uint16_t clamp16(int v) { return uint16_t(std::clamp(v, 0, 65535)); }
+
+}  // namespace
+
 void ClientHub::add(std::shared_ptr<net::Session> s) {
-    const uint64_t id = s->peer().session_id;
+    const uint64_t id = s->peer().session_id & ~kBrowserBit;
     s->on_message = [this, id](std::string&& m) { on_input(id, m); };
     s->on_closed = [this, id](const std::string& reason) {
         spdlog::info("client {} left: {}", id, reason);
         std::lock_guard lock(mutex_);
         clients_.erase(id);
+        count_clients_locked();
     };
     std::lock_guard lock(mutex_);
     if (!accepting_) return s->close("coordinator finishing");
     clients_[id] = Client{s, choose_codec(s->peer().codecs)};
+    count_clients_locked();
+}
+
+void ClientHub::browser_joined(uint64_t id) {
+    std::lock_guard lock(mutex_);
+    if (!accepting_) return;
+    clients_[id | kBrowserBit] = Client{nullptr, FrameCodec::jpeg};
+    count_clients_locked();
+}
+
+void ClientHub::browser_left(uint64_t id) {
+    std::lock_guard lock(mutex_);
+    clients_.erase(id | kBrowserBit);
+    count_clients_locked();
+}
+
+void ClientHub::browser_input(uint64_t id, const PlayerInput& input) {
+    queue_input(id | kBrowserBit, input);
 }
 
 void ClientHub::on_input(uint64_t id, const std::string& bytes) {
     auto in = wire::decode_input(bytes);
-    std::lock_guard lock(mutex_);
-    const auto it = clients_.find(id);
-    if (it == clients_.end()) return;
-    if (!in) return it->second.session->reject(net::ProtocolError::malformed, in.error().message);
-    pending_.push_back(bounded_input(*in));
+    if (!in) {
+        std::lock_guard lock(mutex_);
+        const auto it = clients_.find(id);
+        if (it != clients_.end())
+            it->second.session->reject(net::ProtocolError::malformed, in.error().message);
+        return;
+    }
+    queue_input(id, player_input(*in));
 }
 
-std::vector<PlayerInput> ClientHub::take_inputs() {
+void ClientHub::queue_input(uint64_t key, const PlayerInput& input) {
     std::lock_guard lock(mutex_);
-    return std::exchange(pending_, {});
+    if (clients_.count(key)) pending_.push_back({key, input, Clock::now()});
+}
+
+void ClientHub::count_clients_locked() {
+    std::size_t browsers = 0;
+    for (const auto& [key, c] : clients_)
+        browsers += (key & kBrowserBit) ? 1 : 0;
+    metrics_.set_clients(clients_.size() - browsers, browsers);
+}
+
+std::vector<PlayerInput> ClientHub::take_inputs(uint64_t frame) {
+    std::lock_guard lock(mutex_);
+    FrameInputs taken{frame, {}, {}};
+    std::vector<PlayerInput> inputs;
+    for (Pending& p : pending_) {
+        uint64_t& newest = applied_[p.client];
+        newest = std::max(newest, p.input.sequence);
+        taken.received.push_back(p.received);
+        inputs.push_back(std::move(p.input));
+    }
+    pending_.clear();
+    taken.newest = applied_;
+    frames_.push_back(std::move(taken));
+    return inputs;
+}
+
+// The inputs `frame` applied; frames are shown in the order they were prepared.
+ClientHub::FrameInputs ClientHub::inputs_of(uint64_t frame) {
+    std::lock_guard lock(mutex_);
+    while (!frames_.empty() && frames_.front().frame < frame)
+        frames_.pop_front();
+    if (frames_.empty() || frames_.front().frame != frame) return {frame, applied_, {}};
+    FrameInputs f = std::move(frames_.front());
+    frames_.pop_front();
+    return f;
 }
 
 std::size_t ClientHub::size() const {
@@ -54,27 +114,54 @@ std::size_t ClientHub::size() const {
     return clients_.size();
 }
 
-void ClientHub::send(const FloatImage& image, uint64_t frame, uint64_t last_input_sequence) {
-    std::vector<std::pair<std::shared_ptr<net::Session>, FrameCodec>> targets;
+void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
+    const FrameInputs applied = inputs_of(shown.frame);
+    std::vector<std::pair<uint64_t, Client>> targets;
     {
         std::lock_guard lock(mutex_);
-        for (const auto& [id, c] : clients_)
-            targets.emplace_back(c.session, c.codec);
+        targets.assign(clients_.begin(), clients_.end());
     }
-    std::map<FrameCodec, std::string> encoded;  // outside the lock: encoding takes milliseconds
-    for (auto& [session, codec] : targets) {
-        if (!encoded.count(codec)) {
-            auto bytes = encode_frame(image, codec, jpeg_quality_);
-            if (!bytes) {
-                spdlog::error("frame {}: {}", frame, bytes.error().message);
+    const auto echo = [&](uint64_t key) {
+        const auto it = applied.newest.find(key);
+        return it == applied.newest.end() ? uint64_t(0) : it->second;
+    };
+    std::map<FrameCodec, std::string> pictures;  // outside the lock: encoding takes milliseconds
+    std::size_t bytes = 0;
+    for (auto& [key, c] : targets) {
+        if (!pictures.count(c.codec)) {
+            auto encoded = encode_frame(image, c.codec, jpeg_quality_);
+            if (!encoded) {
+                spdlog::error("frame {}: {}", shown.frame, encoded.error().message);
                 continue;
             }
-            encoded[codec] =
-                wire::encode_frame({frame, uint32_t(image.width), uint32_t(image.height), codec,
-                                    std::move(*bytes), last_input_sequence});
+            pictures[c.codec] = std::move(*encoded);
         }
-        session->send(encoded[codec]);
+        const std::string& picture = pictures[c.codec];
+        if (c.session) {
+            const std::string message =
+                wire::encode_frame({shown.frame, uint32_t(image.width), uint32_t(image.height),
+                                    c.codec, picture, echo(key)});
+            bytes += message.size();
+            c.session->send(message);
+        } else if (web_) {
+            const WebFrameHeader header{WebCodec::jpeg,
+                                        clamp16(image.width),
+                                        clamp16(image.height),
+                                        clamp16(shown.render_width),
+                                        clamp16(shown.render_height),
+                                        clamp16(shown.spp),
+                                        shown.frame,
+                                        echo(key),
+                                        web_->clock_us()};
+            auto message = std::make_shared<const std::string>(encode_web_frame(header, picture));
+            bytes += message->size();
+            web_->send(key & ~kBrowserBit, std::move(message));
+        }
     }
+    metrics_.add_client_bytes(bytes);
+    const auto now = Clock::now();
+    for (const Clock::time_point at : applied.received)
+        metrics_.observe_input_latency(std::chrono::duration<double>(now - at).count());
 }
 
 std::vector<std::shared_ptr<net::Session>> ClientHub::stop_accepting() {
@@ -82,8 +169,9 @@ std::vector<std::shared_ptr<net::Session>> ClientHub::stop_accepting() {
     accepting_ = false;
     std::vector<std::shared_ptr<net::Session>> sessions;
     for (auto& [id, c] : clients_)
-        sessions.push_back(c.session);
+        if (c.session) sessions.push_back(c.session);
     clients_.clear();
+    count_clients_locked();
     return sessions;
 }
 

@@ -1,9 +1,13 @@
-// The farm's clients (DESIGN.md: input up, encoded frames down): their sessions, the inputs
-// they sent (bounded and applied at the next frame boundary), and the fan-out of every finished
-// frame, encoded once per codec that some client asked for. Thread-safe: the network thread
-// adds sessions and delivers inputs; the frame loop takes inputs and sends frames.
+// The farm's clients (DESIGN.md: input up, encoded frames down): native sessions and the HTTP
+// port's browsers, the inputs they sent (applied at the next frame boundary), and the fan-out
+// of every finished frame, encoded once per codec that some client asked for. Each client's
+// frames echo the newest of *its own* inputs the frame shows, so that every client measures
+// input-to-frame latency against its own sequence numbers. Thread-safe: the network and HTTP
+// threads add clients and deliver inputs; the frame loop takes inputs; the display sends.
 #pragma once
 
+#include <chrono>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -11,48 +15,76 @@
 
 #include "common/film/film.h"
 #include "common/net/session.h"
+#include "coordinator/frame/farm_metrics.h"
 #include "coordinator/frame/frame_encoder.h"
 #include "coordinator/game/game.h"
 
-namespace pathfarm::wire {
-struct Input;
-}
-
 namespace pathfarm::coord {
+
+class WebPort;
+
+// What a frame shows, beyond its picture (the browser's overlay prints it).
+struct ShownFrame {
+    uint64_t frame = 0;
+    int render_width = 0, render_height = 0, spp = 0;
+};
 
 class ClientHub {
 public:
-    explicit ClientHub(int jpeg_quality) : jpeg_quality_(jpeg_quality) {}
+    using Clock = std::chrono::steady_clock;
+    ClientHub(int jpeg_quality, FarmMetrics& metrics)
+        : jpeg_quality_(jpeg_quality), metrics_(metrics) {}
 
     // --- network thread
     void add(std::shared_ptr<net::Session> session);  // installs its handlers
+    // --- HTTP thread: the browsers of `port` (set before any joins; it outlives the hub's use)
+    void attach(WebPort* port) { web_ = port; }
+    void browser_joined(uint64_t id);
+    void browser_input(uint64_t id, const PlayerInput& input);
+    void browser_left(uint64_t id);
 
     // --- frame loop
-    // Inputs received since the last call, in arrival order.
-    std::vector<PlayerInput> take_inputs();
-    // Encodes `image` once per codec in use and sends it with the frame number and the newest
-    // input it shows (for the client's latency measurement).
-    void send(const FloatImage& image, uint64_t frame, uint64_t last_input_sequence);
-    std::size_t size() const;
+    // Inputs received since the last call, in arrival order; they take effect in `frame`.
+    std::vector<PlayerInput> take_inputs(uint64_t frame);
+    // --- display thread
+    // Encodes `image` once per codec in use and sends it to every client with the newest of
+    // that client's inputs applied up to the frame.
+    void send(const FloatImage& image, const ShownFrame& shown);
+    std::size_t size() const;  // native clients and browsers
     // No client is accepted from now on; returns the sessions for the caller to close.
     std::vector<std::shared_ptr<net::Session>> stop_accepting();
 
 private:
+    // Browsers and native sessions in one map: a browser's key has the top bit set.
+    static constexpr uint64_t kBrowserBit = uint64_t(1) << 63;
     struct Client {
-        std::shared_ptr<net::Session> session;
+        std::shared_ptr<net::Session> session;  // none: a browser
         FrameCodec codec = FrameCodec::jpeg;
     };
+    struct Pending {
+        uint64_t client;
+        PlayerInput input;
+        Clock::time_point received;
+    };
+    struct FrameInputs {  // what a frame applied, for its echoes and latencies
+        uint64_t frame;
+        std::map<uint64_t, uint64_t> newest;  // per client, the newest input applied by then
+        std::vector<Clock::time_point> received;
+    };
     void on_input(uint64_t id, const std::string& bytes);
+    void queue_input(uint64_t key, const PlayerInput& input);
+    FrameInputs inputs_of(uint64_t frame);
+    void count_clients_locked();
 
     int jpeg_quality_;
+    FarmMetrics& metrics_;
+    WebPort* web_ = nullptr;
     mutable std::mutex mutex_;
     std::map<uint64_t, Client> clients_;
-    std::vector<PlayerInput> pending_;
+    std::vector<Pending> pending_;
+    std::map<uint64_t, uint64_t> applied_;  // per client, the newest input taken
+    std::deque<FrameInputs> frames_;        // taken, not yet shown
     bool accepting_ = true;
 };
-
-// A client's input as the game takes it: at most 10 m and half a turn per input, non-finite
-// values none (a hostile or broken client cannot teleport the camera or turn it into NaN).
-PlayerInput bounded_input(const wire::Input& in);
 
 }  // namespace pathfarm::coord

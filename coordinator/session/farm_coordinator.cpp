@@ -19,6 +19,7 @@
 #include "coordinator/converge/gbuffer.h"
 #include "coordinator/frame/farm_stats.h"
 #include "coordinator/frame/frame_pipeline.h"
+#include "coordinator/http/web_port.h"
 #include "coordinator/pacing/workload_scaler.h"
 #include "coordinator/session/client_hub.h"
 #include "coordinator/session/frame_display.h"
@@ -64,6 +65,7 @@ public:
 private:
     double target_fps() const { return o_.target_fps > 0.0 ? o_.target_fps : o_.fps; }
     Status listen(net::NetService& net);
+    Result<uint16_t> open_http_port();
     PreparedFrame prepare(uint64_t frame);
     bool converged_and_unchanged(const PreparedFrame& p);
     void begin_frame(uint64_t frame, const PreparedFrame& p, bool render);
@@ -77,7 +79,9 @@ private:
     std::string scene_name_;
     FramePipeline pipeline_;
     TracerPool tracers_;
+    FarmMetrics metrics_;
     ClientHub clients_;
+    std::unique_ptr<WebPort> web_;          // --http-port
     std::optional<WorkloadScaler> scaler_;  // none with --fixed-spp
     FrameWork work_;                        // of the frame being rendered
     Timer run_clock_;                       // since the farm started: stats' wall_ms
@@ -93,9 +97,9 @@ Farm::Farm(SceneModel scene, const FarmOptions& o, std::unique_ptr<Balancer> bal
       scene_name_(scene.name),
       pipeline_(std::move(scene), PipelineOptions{o.clip, 1.5}),
       tracers_(std::move(balancer), std::chrono::milliseconds(o.deadline_ms)),
-      clients_(o.jpeg_quality),
+      clients_(o.jpeg_quality, metrics_),
       stages_(o.stages_csv, kStageColumns),
-      display_(o_, clients_, run_clock_) {
+      display_(o_, clients_, metrics_, run_clock_) {
     SceneGraph& graph = pipeline_.graph();
     // A scene without a camera is framed from its bounds (DESIGN.md), as pathfarm-render
     // frames it, and the replicas get that camera like any other.
@@ -122,16 +126,34 @@ Status Farm::listen(net::NetService& net) {
         net.listen(config(o_.client_port, net::PeerRole::client, net::kMaxFromClientBytes),
                    [this](auto s) { clients_.add(std::move(s)); });
     if (!client_port) return client_port.error();
-    std::printf("listening tracer_port=%u client_port=%u\n", unsigned(*tracer_port),
-                unsigned(*client_port));
+    auto http_port = open_http_port();
+    if (!http_port) return http_port.error();
+    std::printf("listening tracer_port=%u client_port=%u http_port=%u\n", unsigned(*tracer_port),
+                unsigned(*client_port), unsigned(*http_port));
+    if (web_) {
+        const bool any = o_.bind_address == "0.0.0.0" || o_.bind_address == "::";
+        std::printf("browser client: %s\n", web_->url(any ? "127.0.0.1" : o_.bind_address).c_str());
+    }
     std::fflush(stdout);
     return {};
+}
+
+// The browsers join the client hub; 0 when the port is off.
+Result<uint16_t> Farm::open_http_port() {
+    if (!o_.http_port) return uint16_t(0);
+    BrowserEvents events{
+        [this](uint64_t id) { clients_.browser_joined(id); },
+        [this](uint64_t id) { clients_.browser_left(id); },
+        [this](uint64_t id, const PlayerInput& in) { clients_.browser_input(id, in); }};
+    web_ = std::make_unique<WebPort>(o_.http_token, metrics_, std::move(events));
+    clients_.attach(web_.get());
+    return web_->start(o_.bind_address, *o_.http_port);
 }
 
 PreparedFrame Farm::prepare(uint64_t frame) {
     PreparedFrame p;
     // The fixed game clock (DESIGN.md, "Time"); input takes effect at frame boundaries.
-    p.update = pipeline_.advance(frame, double(frame) / o_.fps, clients_.take_inputs());
+    p.update = pipeline_.advance(frame, double(frame) / o_.fps, clients_.take_inputs(frame));
     const EncodedCommit plain = encode_commit(pipeline_.commit(p.update, false));
     p.plain_bytes = plain.total_bytes();
     p.plain = wire::encode_commit_envelopes(plain);
@@ -190,8 +212,7 @@ void Farm::observe_frame_time(double frame_ms, const FrameOutcome& outcome) {
 // Hands the frame to the display thread (FrameDisplay) with what it needs of this frame's state.
 void Farm::display(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered) {
     display_.submit({work_, std::move(p.view), std::move(outcome), rendered, frame_ms,
-                     tracers_.size(), p.plain_bytes, scaler_ && scaler_->at_floor(),
-                     p.update.last_input_sequence});
+                     tracers_.size(), p.plain_bytes, scaler_ && scaler_->at_floor()});
 }
 
 void Farm::log_rate(uint64_t frame, int completed) {  // one stats line a second
@@ -256,6 +277,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
 // the writers flush what is queued (the last frame to clients) for at most two seconds.
 void Farm::shut_down() {
     display_.finish();  // the last frames to the clients' queues first
+    if (web_) web_->stop();
     std::vector<std::shared_ptr<net::Session>> sessions = tracers_.stop_accepting();
     for (auto& s : clients_.stop_accepting())
         sessions.push_back(std::move(s));

@@ -25,6 +25,10 @@ struct FarmOptions {
     int deadline_ms = 10000;
     std::optional<int> clip;
     std::string secret;
+    // The HTTP port (docs/web.md): browser client, /metrics, /healthz; none: off. Every route
+    // but /healthz needs `http_token` (a random one when empty).
+    std::optional<uint16_t> http_port;
+    std::string http_token;
     // CSV outputs; their columns are listed in coordinator/frame/farm_stats.h.
     std::string stats_csv;                     // one row per frame
     std::string tracer_stats_csv;              // one row per tracer and frame

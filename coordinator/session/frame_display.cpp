@@ -8,9 +8,11 @@
 
 namespace pathfarm::coord {
 
-FrameDisplay::FrameDisplay(const FarmOptions& options, ClientHub& clients, const Timer& clock)
+FrameDisplay::FrameDisplay(const FarmOptions& options, ClientHub& clients, FarmMetrics& metrics,
+                           const Timer& clock)
     : o_(options),
       clients_(clients),
+      metrics_(metrics),
       clock_(clock),
       frame_stats_(options.stats_csv, kFrameStatsColumns),
       tracer_stats_(options.tracer_stats_csv, kTracerStatsColumns),
@@ -83,21 +85,34 @@ void FrameDisplay::show(DisplayJob& job) {
             converged = accumulator_.blend(image, std::move(job.view));
         }
     }
-    clients_.send(image, w.frame, job.last_input_sequence);
+    clients_.send(image, {w.frame, w.width, w.height, job.rendered ? w.spp : 0});
     if (!o_.dump_frames.empty()) {
         const std::string path = fmt::format("{}/frame_{:06d}.pfm", o_.dump_frames, w.frame);
         if (Status s = write_image(path, image); !s) spdlog::error("{}", s.error().message);
     }
+    record(job, converged, display_timer.milliseconds(), denoise_ms);
+}
+
+// The CSV rows, then the live metrics (so that /metrics never counts a frame the CSV has not).
+void FrameDisplay::record(const DisplayJob& job, const ConvergeStats& converged, double display_ms,
+                          double denoise_ms) {
+    const FrameWork& w = job.work;
     const FrameOutcome& out = job.outcome;
     frame_stats_.row(w.frame, job.tracers, job.frame_ms, out.idle_pct, job.commit_bytes,
                      out.tile_bytes, job.rendered ? w.spp : 0, w.rr_scale, w.width, w.height,
-                     converged.mean_f, converged.kept, int(job.at_floor),
-                     display_timer.milliseconds(), clock_.milliseconds(), denoise_ms);
-    for (const TracerFrameStats& t : out.tracers)
+                     converged.mean_f, converged.kept, int(job.at_floor), display_ms,
+                     clock_.milliseconds(), denoise_ms);
+    FrameSample sample{job.rendered,     job.frame_ms,   job.tracers,
+                       job.commit_bytes, out.tile_bytes, {}};
+    for (const TracerFrameStats& t : out.tracers) {
         tracer_stats_.row(w.frame, t.name, t.first_range.y0, t.first_range.rows(), t.render_ms,
                           t.rows_delivered, t.update_ms);
+        sample.per_tracer.push_back(
+            {t.name, job.frame_ms > 0.0 ? t.render_ms / job.frame_ms : 0.0, t.rows_delivered});
+    }
     for (std::size_t u = 0; u < out.units.size(); ++u)
         costs_.row(w.frame, u, out.units[u].us);
+    metrics_.observe_frame(sample);
 }
 
 }  // namespace pathfarm::coord

@@ -30,13 +30,13 @@ struct DisplayJob {
     double frame_ms = 0.0;  // assignment to last tile
     std::size_t tracers = 0, commit_bytes = 0;
     bool at_floor = false;  // workload scaling at its floor
-    uint64_t last_input_sequence = 0;
 };
 
 class FrameDisplay {
 public:
     // `clock` gives the stats' wall_ms; it and `clients` outlive the display.
-    FrameDisplay(const FarmOptions& options, ClientHub& clients, const Timer& clock);
+    FrameDisplay(const FarmOptions& options, ClientHub& clients, FarmMetrics& metrics,
+                 const Timer& clock);
     ~FrameDisplay();  // finishes what was submitted
 
     // Queues a frame; waits while the previous one is still queued (one shown, one waiting).
@@ -48,9 +48,12 @@ public:
 private:
     void run();
     void show(DisplayJob& job);
+    void record(const DisplayJob& job, const ConvergeStats& converged, double display_ms,
+                double denoise_ms);
 
     const FarmOptions& o_;
     ClientHub& clients_;
+    FarmMetrics& metrics_;
     const Timer& clock_;
     TemporalAccumulator accumulator_;  // converging without the denoiser
     Denoiser denoiser_;                // converging (temporal) or not, with it

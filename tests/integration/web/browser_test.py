@@ -1,0 +1,61 @@
+"""The browser client in a real browser (Debian's chromium, headless): the page loads with the
+printed token, shows frames, sends a key press that turns the view, and is screenshotted; the
+same page without the token is refused. Usage: browser_test.py BUILD OUT_DIR"""
+import os
+import sys
+import unittest
+
+import cdp
+import web_farm
+
+BUILD = sys.argv.pop(1) if len(sys.argv) > 1 else "build"
+OUT = sys.argv.pop(1) if len(sys.argv) > 1 else "."
+
+# The canvas' pixels, kept in the page to compare against later.
+SNAPSHOT = """(() => { const c = document.getElementById('frame');
+  window.snapshot = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; return true; })()"""
+# Mean absolute difference (0-255) between the canvas now and the snapshot.
+CHANGE = """(() => { const c = document.getElementById('frame');
+  const now = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  if (now.length !== window.snapshot.length) return 255;
+  let sum = 0; for (let i = 0; i < now.length; i++) sum += Math.abs(now[i] - window.snapshot[i]);
+  return sum / now.length; })()"""
+
+
+class BrowserTest(unittest.TestCase):
+    def test_page_shows_frames_and_a_key_turns_the_view(self):
+        os.makedirs(OUT, exist_ok=True)
+        with web_farm.Farm(BUILD, scene="builtin:default", tracers=2, size=(256, 144)) as farm:
+            browser = cdp.Chromium()
+            try:
+                browser.call("Page.navigate", url=farm.url)
+                browser.wait_until("window.pathfarm && window.pathfarm.frames >= 10")
+                self.assertTrue(browser.evaluate("window.pathfarm.connected"))
+                header = browser.evaluate("window.pathfarm.lastHeader")
+                self.assertEqual((header["width"], header["height"]), (256, 144))
+                # A still camera converges: frames differ little from one to the next.
+                browser.evaluate(SNAPSHOT)
+                browser.wait_until("window.pathfarm.frames >= 14")
+                still = browser.evaluate(CHANGE)
+                browser.screenshot(os.path.join(OUT, "browser_client.png"))
+                browser.evaluate(SNAPSHOT)
+                browser.key("ArrowLeft", "ArrowLeft", 37, hold_seconds=0.3)
+                browser.wait_until("window.pathfarm.latenciesMs.length > 0")
+                browser.wait_until("window.pathfarm.sentAt.size === 0")
+                turned = browser.evaluate(CHANGE)
+                self.assertGreater(turned, 4 * still + 2, (still, turned))
+                overlay = browser.evaluate("document.getElementById('overlay').textContent")
+                self.assertRegex(overlay, r"frames/s +latency p50 \d+ ms +p99 \d+ ms")
+                self.assertRegex(overlay, r"render \d+x\d+ +\d+ spp")
+                browser.screenshot(os.path.join(OUT, "browser_client_turned.png"))
+                # The same page without the token (nor the cookie the page set): refused.
+                browser.call("Network.clearBrowserCookies")
+                browser.call("Page.navigate", url=farm.base)
+                browser.wait_until("document.readyState === 'complete'")
+                self.assertIn("forbidden", browser.evaluate("document.body.innerText"))
+            finally:
+                browser.close()
+
+
+if __name__ == "__main__":
+    unittest.main()
