@@ -9,7 +9,8 @@
 # BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them),
 # SCENE (default builtin:default), OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
 # bench/demo_ab.py), COORDINATOR_ARGS (more coordinator arguments, e.g. "--denoise off"),
-# TRACER_ARGS (more tracer arguments, e.g. "--log-level debug").
+# TRACER_ARGS (more tracer arguments, e.g. "--log-level debug"), HTTP_PORT (the browser
+# client's port, default 0: any; its URL is printed).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if [ -z "${BIN:-}" ]; then
@@ -29,17 +30,20 @@ trap cleanup EXIT
 
 "$bin/coordinator/pathfarm-coordinator" --scene "${SCENE:-builtin:default}" --tracer-port 0 --client-port 0 \
   --width "$width" --height "$height" --spp "$spp" --frames "$frames" --min-tracers 2 \
-  --target-fps "$target" --fps "$target" \
+  --target-fps "$target" --fps "$target" --http-port "${HTTP_PORT:-0}" \
   --stats-csv "$out/stats.csv" --tracer-stats-csv "$out/tracers.csv" --stages-csv "$out/stages.csv" \
   ${COORDINATOR_ARGS:-} > "$out/coordinator.log" 2>&1 &
 coordinator=$!
+pids+=("$coordinator")
 for _ in $(seq 100); do grep -q "tracer_port=" "$out/coordinator.log" && break; sleep 0.1; done
 tracer_port=$(grep -o "tracer_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
 client_port=$(grep -o "client_port=[0-9]*" "$out/coordinator.log" | cut -d= -f2)
+grep -o "browser client: .*" "$out/coordinator.log" | sed 's/^/demo: /' || true
 "$bin/client/pathfarm-client" --connect "127.0.0.1:$client_port" --headless --frames "$frames" \
   --turn-rate 0.1 --action-every-second --latency-csv "$out/latency.csv" \
   --out "$out/frames" --contact-sheet "$out/contact_sheet.png" > "$out/client.log" 2>&1 &
 client=$!
+pids+=("$client")
 for _ in $(seq 100); do grep -q '"headless-client" connected' "$out/coordinator.log" && break; sleep 0.1; done
 read -r -a backends <<< "${BACKENDS:-embree embree}"
 names=(tracer-a tracer-b)

@@ -15,7 +15,8 @@ const overlay = document.getElementById('overlay');
 const state = {
   connected: false, frames: 0, lastHeader: null, sequence: 0,
   sentAt: new Map(),       // input sequence -> performance.now() when sent
-  latenciesMs: [],         // input -> first frame that shows it
+  latenciesMs: [],         // input -> first frame that shows it (the newest ones)
+  latencyCount: 0,         // all measured so far
   arrivalsMs: [],          // frame arrival times, for the frame rate
   keys: new Set(), move: [0, 0, 0, 0, 0], action: false, lastSend: 0, lastTick: 0,
   drawing: false, newest: null,
@@ -55,6 +56,7 @@ function frameArrived(header, now) {
   for (const [sequence, sentAt] of state.sentAt) {
     if (sequence > header.lastInput) break;
     keep(state.latenciesMs, now - sentAt);
+    state.latencyCount += 1;
     state.sentAt.delete(sequence);
   }
   state.frames += 1;

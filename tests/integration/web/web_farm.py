@@ -15,7 +15,7 @@ SECRET = "web-test-secret"
 
 class Farm:
     def __init__(self, build, scene="builtin:cornell", tracers=1, size=(160, 90),
-                 extra=(), native_client=False):
+                 extra=(), native_client=False, client_args=()):
         self.build = build
         self.dir = tempfile.mkdtemp(prefix="pathfarm-web-")
         self.stats_csv = os.path.join(self.dir, "stats.csv")
@@ -28,7 +28,7 @@ class Farm:
             [f"{build}/coordinator/pathfarm-coordinator", "--scene", scene,
              "--tracer-port", "0", "--client-port", "0", "--http-port", "0",
              "--bind", "127.0.0.1", "--width", str(size[0]), "--height", str(size[1]),
-             "--target-fps", "10", "--stats-csv", self.stats_csv,
+             "--target-fps", "10", "--fps", "10", "--stats-csv", self.stats_csv,
              "--tracer-stats-csv", self.tracer_csv, "--min-tracers", str(tracers), *extra],
             stdout=log, stderr=subprocess.STDOUT, env=env), log))
         text = self._wait_for(log, r"browser client: (\S+)")
@@ -43,7 +43,7 @@ class Farm:
         if native_client:
             self._spawn("client", [f"{build}/client/pathfarm-client", "--connect",
                                    f"127.0.0.1:{ports.group(2)}", "--headless",
-                                   "--turn-rate", "0.3"])
+                                   "--turn-rate", "0.3", *client_args])
 
     def _spawn(self, name, argv):
         log = open(os.path.join(self.dir, name + ".log"), "w+")
