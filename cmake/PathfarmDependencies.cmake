@@ -14,6 +14,8 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET GLOBAL OpenImageIO>=2.4)
 add_library(OpenImageIO::OpenImageIO ALIAS PkgConfig::OIIO)
 pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET GLOBAL libturbojpeg)
+# libavcodec (with libx264) and libswscale: H.264 frames (common/film/h264_codec.cpp).
+pkg_check_modules(LIBAV REQUIRED IMPORTED_TARGET GLOBAL libavcodec libavutil libswscale)
 
 add_compile_definitions(GLM_ENABLE_EXPERIMENTAL)
 

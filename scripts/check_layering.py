@@ -38,6 +38,9 @@ RESTRICTED = {
     "SDL": ["client/", "tests/"],
     "turbojpeg.h": ["common/film/jpeg_codec.cpp"],
     "websocketpp/": ["coordinator/http/web_server.cpp"],
+    "libavcodec/": ["common/film/h264_codec.cpp"],
+    "libswscale/": ["common/film/h264_codec.cpp"],
+    "libavutil/": ["common/film/h264_codec.cpp"],
 }
 
 # quoted project headers that only some files may include

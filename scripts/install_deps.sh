@@ -12,6 +12,7 @@ PACKAGES=(
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   gnuplot-nox libturbojpeg0-dev libsdl2-dev xvfb xauth xdotool
   libwebsocketpp-dev python3-prometheus-client python3-websocket chromium
+  libavcodec-dev libavutil-dev libswscale-dev
 )
 
 missing=()

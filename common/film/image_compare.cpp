@@ -1,7 +1,8 @@
-// RMSE, relative MSE and SSIM.
+// RMSE, relative MSE, SSIM and PSNR.
 #include "common/film/image_compare.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "common/base/check.h"
@@ -94,6 +95,17 @@ double ssim(const FloatImage& a, const FloatImage& reference) {
                ((mx[i] * mx[i] + my[i] * my[i] + kC1) * (vx + vy + kC2));
     }
     return sum / double(x.size());
+}
+
+double psnr8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& reference) {
+    PF_CHECK(a.size() == reference.size() && !a.empty());
+    double sum = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        const double d = double(a[k]) - double(reference[k]);
+        sum += d * d;
+    }
+    if (sum == 0.0) return std::numeric_limits<double>::infinity();
+    return 10.0 * std::log10(255.0 * 255.0 / (sum / double(a.size())));
 }
 
 }  // namespace pathfarm

@@ -1,6 +1,9 @@
 // Image error metrics used by tests and benchmarks (always against a converged reference).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "common/film/film.h"
 
 namespace pathfarm {
@@ -15,5 +18,9 @@ double relative_mse(const FloatImage& a, const FloatImage& reference, double eps
 // their tonemapped sRGB values in [0, 1], an 11x11 Gaussian window (sigma 1.5) clipped at the
 // borders, the paper's constants. 1 for identical images. Same size required.
 double ssim(const FloatImage& a, const FloatImage& reference);
+
+// Peak signal-to-noise ratio in dB of 8-bit values (what a codec is judged by): 10 log10(255^2 /
+// MSE) over every byte; infinity for identical inputs. Same size required.
+double psnr8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& reference);
 
 }  // namespace pathfarm
