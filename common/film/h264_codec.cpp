@@ -68,6 +68,8 @@ Result<std::unique_ptr<H264Encoder>> H264Encoder::open(const H264Settings& s) {
     if (s.width <= 0 || s.height <= 0 || s.width % 2 || s.height % 2)
         return make_error(ErrorCode::invalid_argument, "H.264: {}x{}: sizes must be even", s.width,
                           s.height);
+    if (s.tune.find("zerolatency") == std::string::npos)
+        return make_error(ErrorCode::invalid_argument, "H.264: tune {}: needs zerolatency", s.tune);
     if (!(s.fps > 0.0) || s.key_interval < 1 || s.crf < 0 || s.crf > 51 || s.threads < 1)
         return make_error(ErrorCode::invalid_argument,
                           "H.264: fps > 0, key interval >= 1, crf in [0, 51], threads >= 1");
@@ -88,10 +90,9 @@ Result<std::unique_ptr<H264Encoder>> H264Encoder::open(const H264Settings& s) {
     c->thread_count = s.threads;
     c->thread_type = FF_THREAD_SLICE;  // x264's sliced threads: no frame of delay per thread
     tag_colours(c);
-    // Constrained baseline: what every WebCodecs and hardware decoder takes.
     for (const auto& [key, value] : {std::pair{"preset", s.preset.c_str()},
-                                     {"tune", "zerolatency"},
-                                     {"profile", "baseline"},
+                                     {"tune", s.tune.c_str()},
+                                     {"profile", s.profile.c_str()},
                                      {"forced-idr", "1"}})
         if (const int r = av_opt_set(c->priv_data, key, value, 0); r < 0)
             return make_error(ErrorCode::invalid_argument, "H.264: {} {}: {}", key, value,

@@ -21,6 +21,8 @@ struct H264Settings {
     int crf = 23;            // x264's constant rate factor: lower is better and bigger
     int threads = 1;         // > 1: sliced threads (every thread on each frame: no delay)
     std::string preset = "ultrafast";
+    std::string profile = "baseline";  // or "main", "high" (CABAC, 8x8 transforms)
+    std::string tune = "zerolatency";  // always includes zerolatency (no frame of delay)
 };
 
 struct H264Picture {

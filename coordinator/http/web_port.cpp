@@ -8,8 +8,8 @@
 
 namespace pathfarm::coord {
 namespace {
-// A browser that has not taken the last two frames gets none until it has: frames are
-// replaced, never queued (a queue is latency).
+// A browser with this much unsent (several frames) gets no more until it has taken them:
+// frames are skipped, never queued (a queue is latency).
 constexpr std::size_t kMaxUnsentBytes = 256 * 1024;
 }  // namespace
 
@@ -20,10 +20,12 @@ WebPort::WebPort(std::string token, const FarmMetrics& metrics, BrowserEvents ev
     WebServerHandlers h;
     h.on_http = [this](const HttpRequest& r) { return routes_.handle(r); };
     h.on_upgrade = [this](const HttpRequest& r) { return routes_.upgrade(r); };
-    h.on_open = [this](uint64_t id) {
-        spdlog::info("browser {} joined", id);
-        events_.joined(id);
+    h.on_open = [this](uint64_t id, const HttpRequest& upgrade) {
+        const bool h264 = query_value(upgrade.resource, "codec") == "h264";
+        spdlog::info("browser {} joined ({})", id, h264 ? "H.264" : "JPEG");
+        events_.joined(id, h264);
     };
+    h.on_dropped = [this](uint64_t id) { events_.needs_key(id); };
     h.on_close = [this](uint64_t id) {
         spdlog::info("browser {} left", id);
         events_.left(id);
@@ -46,8 +48,8 @@ std::string WebPort::url(const std::string& host) const {
     return fmt::format("http://{}:{}/?token={}", host, port_, token_);
 }
 
-void WebPort::send(uint64_t browser, std::shared_ptr<const std::string> message) {
-    server_->send(browser, std::move(message), kMaxUnsentBytes);
+void WebPort::send(uint64_t browser, std::shared_ptr<const std::string> message, MessageKind kind) {
+    server_->send(browser, std::move(message), kMaxUnsentBytes, kind);
 }
 
 void WebPort::on_message(uint64_t browser, const std::string& bytes) {

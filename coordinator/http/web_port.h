@@ -19,7 +19,10 @@ namespace pathfarm::coord {
 class FarmMetrics;
 
 struct BrowserEvents {  // called on the HTTP thread
-    std::function<void(uint64_t browser)> joined, left;
+    // `h264`: the page asked for H.264 (/ws?codec=h264: it has a WebCodecs decoder for it).
+    std::function<void(uint64_t browser, bool h264)> joined;
+    std::function<void(uint64_t browser)> left;
+    std::function<void(uint64_t browser)> needs_key;  // a delta was dropped
     std::function<void(uint64_t browser, const PlayerInput&)> input;
 };
 
@@ -30,8 +33,8 @@ public:
     // The port bound; the URL to print is url(host).
     Result<uint16_t> start(const std::string& bind_address, uint16_t port);
     std::string url(const std::string& host) const;
-    // One message to a browser (dropped while it still has more than two frames unsent).
-    void send(uint64_t browser, std::shared_ptr<const std::string> message);
+    // One message to a browser (dropped while it still has much unsent; see WebServer::send).
+    void send(uint64_t browser, std::shared_ptr<const std::string> message, MessageKind kind);
     uint64_t clock_us() const { return uint64_t(clock_.seconds() * 1e6); }
     void stop();  // closes every browser, bounded
 

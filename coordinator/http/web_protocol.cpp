@@ -33,11 +33,14 @@ std::string encode_web_frame(const WebFrameHeader& h, std::string_view picture) 
     out += kFrameMagic;
     put(out, kVersion);
     put(out, uint8_t(h.codec));
-    for (const uint16_t v : {h.width, h.height, h.render_width, h.render_height, h.spp})
+    put(out, uint8_t(h.key ? 1 : 0));  // flags
+    put(out, uint8_t(0));
+    for (const uint16_t v : {h.width, h.height, h.render_width, h.render_height, h.spp, uint16_t(0),
+                             uint16_t(0), uint16_t(0)})
         put(out, v);
     for (const uint64_t v : {h.frame, h.last_input_sequence, h.sent_us})
         put(out, v);
-    out += picture;  // header: 4 + 1 + 1 + 5 * 2 + 3 * 8 = kWebFrameHeaderBytes
+    out += picture;  // header: 8 + 8 * 2 + 3 * 8 = kWebFrameHeaderBytes
     return out;
 }
 
@@ -47,14 +50,15 @@ Result<WebFrameHeader> decode_web_frame_header(std::string_view m) {
         return make_error(ErrorCode::parse_error, "web frame: not a version-1 frame header");
     WebFrameHeader h;
     h.codec = WebCodec(get<uint8_t>(m, 5));
-    h.width = get<uint16_t>(m, 6);
-    h.height = get<uint16_t>(m, 8);
-    h.render_width = get<uint16_t>(m, 10);
-    h.render_height = get<uint16_t>(m, 12);
-    h.spp = get<uint16_t>(m, 14);
-    h.frame = get<uint64_t>(m, 16);
-    h.last_input_sequence = get<uint64_t>(m, 24);
-    h.sent_us = get<uint64_t>(m, 32);
+    h.key = (get<uint8_t>(m, 6) & 1) != 0;
+    h.width = get<uint16_t>(m, 8);
+    h.height = get<uint16_t>(m, 10);
+    h.render_width = get<uint16_t>(m, 12);
+    h.render_height = get<uint16_t>(m, 14);
+    h.spp = get<uint16_t>(m, 16);
+    h.frame = get<uint64_t>(m, 24);
+    h.last_input_sequence = get<uint64_t>(m, 32);
+    h.sent_us = get<uint64_t>(m, 40);
     return h;
 }
 

@@ -14,9 +14,10 @@ namespace pathfarm::coord {
 
 enum class WebCodec : uint8_t { jpeg = 0, h264 = 1 };
 
-// Coordinator -> browser: a 40-byte header, then the encoded picture.
+// Coordinator -> browser: a 48-byte header, then the encoded picture.
 struct WebFrameHeader {
     WebCodec codec = WebCodec::jpeg;
+    bool key = true;  // a picture a decoder can start at (every JPEG; H.264 IDR frames)
     uint16_t width = 0, height = 0;                // the picture's size
     uint16_t render_width = 0, render_height = 0;  // what workload scaling rendered
     uint16_t spp = 0;                              // samples per pixel this frame (0: none new)
@@ -24,7 +25,7 @@ struct WebFrameHeader {
     uint64_t last_input_sequence = 0;  // the newest of this client's inputs the frame shows
     uint64_t sent_us = 0;              // the coordinator's clock when it was sent
 };
-inline constexpr std::size_t kWebFrameHeaderBytes = 40;
+inline constexpr std::size_t kWebFrameHeaderBytes = 48;
 std::string encode_web_frame(const WebFrameHeader& header, std::string_view picture);
 Result<WebFrameHeader> decode_web_frame_header(std::string_view message);
 

@@ -49,6 +49,7 @@ struct WebServer::Impl {
     Server server;  // after io: destroyed first (its acceptor belongs to io)
     std::map<Handle, uint64_t, std::owner_less<Handle>> ids;  // open WebSockets
     std::map<uint64_t, Handle> handles;
+    std::map<uint64_t, bool> broken;  // a message dropped, no key message since
     uint64_t next_id = 1;
     std::thread thread;
     std::future<void> finished;
@@ -92,7 +93,7 @@ void WebServer::Impl::on_open(Handle h) {
     const uint64_t id = next_id++;
     ids[h] = id;
     handles[id] = h;
-    handlers.on_open(id);
+    handlers.on_open(id, request_of(server.get_con_from_hdl(h)));
 }
 
 void WebServer::Impl::on_close(Handle h) {
@@ -100,6 +101,7 @@ void WebServer::Impl::on_close(Handle h) {
     if (it == ids.end()) return;
     const uint64_t id = it->second;
     handles.erase(id);
+    broken.erase(id);
     ids.erase(it);
     handlers.on_close(id);
 }
@@ -149,14 +151,23 @@ std::optional<uint16_t> WebServer::start(const std::string& bind_address, uint16
 }
 
 void WebServer::send(uint64_t client, std::shared_ptr<const std::string> message,
-                     std::size_t max_buffered) {
+                     std::size_t max_buffered, MessageKind kind) {
     Impl& s = *impl_;
-    asio::post(s.io, [&s, client, message = std::move(message), max_buffered] {
+    asio::post(s.io, [&s, client, message = std::move(message), max_buffered, kind] {
         const auto it = s.handles.find(client);
         if (it == s.handles.end()) return;
         websocketpp::lib::error_code ec;
         auto con = s.server.get_con_from_hdl(it->second, ec);
-        if (ec || con->get_buffered_amount() > max_buffered) return;
+        if (ec) return;
+        bool& broken = s.broken[client];
+        if (con->get_buffered_amount() > max_buffered || (broken && kind == MessageKind::delta)) {
+            if (kind != MessageKind::independent && !broken) {
+                broken = true;
+                s.handlers.on_dropped(client);
+            }
+            return;
+        }
+        if (kind == MessageKind::key) broken = false;
         con->send(message->data(), message->size(), websocketpp::frame::opcode::binary);
     });
 }

@@ -34,10 +34,16 @@ struct WebServerHandlers {
     std::function<HttpResponse(const HttpRequest&)> on_http;
     // A WebSocket upgrade: nullopt accepts it, a response refuses it with that status.
     std::function<std::optional<HttpResponse>(const HttpRequest&)> on_upgrade;
-    std::function<void(uint64_t client)> on_open;
+    std::function<void(uint64_t client, const HttpRequest& upgrade)> on_open;
     std::function<void(uint64_t client, const std::string& binary_message)> on_message;
     std::function<void(uint64_t client)> on_close;
+    // A message to `client` was dropped (too much unsent): a stream of deltas needs a new key.
+    std::function<void(uint64_t client)> on_dropped;
 };
+
+// How a message relates to the ones before it: a delta (an H.264 P-frame) is useless after a
+// dropped message until the next key message.
+enum class MessageKind { independent, key, delta };
 
 class WebServer {
 public:
@@ -51,9 +57,10 @@ public:
     std::optional<uint16_t> start(const std::string& bind_address, uint16_t port,
                                   std::string& error);
     // Sends one binary message to a WebSocket unless its unsent bytes exceed `max_buffered`
-    // (a slow browser skips frames instead of queueing seconds of them). Thread-safe.
-    void send(uint64_t client, std::shared_ptr<const std::string> message,
-              std::size_t max_buffered);
+    // (a slow browser skips frames instead of queueing seconds of them); after a drop, deltas
+    // are dropped too until a key message goes through. Thread-safe.
+    void send(uint64_t client, std::shared_ptr<const std::string> message, std::size_t max_buffered,
+              MessageKind kind = MessageKind::independent);
     // Closes a WebSocket (a malformed message, say). Thread-safe.
     void close(uint64_t client, const std::string& reason);
     // Stops accepting, closes every connection (bounded: 1 s), joins the thread. Idempotent.

@@ -5,6 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "common/film/tonemap.h"
 #include "common/wire/messages.h"
 #include "coordinator/http/web_port.h"
 #include "coordinator/http/web_protocol.h"
@@ -24,6 +25,14 @@ PlayerInput player_input(const wire::Input& in) {
 
 uint16_t clamp16(int v) { return uint16_t(std::clamp(v, 0, 65535)); }
 
+// The browsers' stream (docs/web.md, "H.264"): x264's veryfast preset with the high profile
+// (CABAC, 8x8 transforms) and zerolatency; CRF 18 is about JPEG q90's PSNR on the demo's
+// frames at 320x180 (bench/codec_bench.py). An IDR frame every 10 s at 10 frames/s, and
+// whenever a browser joins or lost a picture.
+H264Settings browser_stream(int width, int height) {
+    return {width, height, 10.0, 100, 18, 1, "veryfast", "high", "zerolatency"};
+}
+
 }  // namespace
 
 void ClientHub::add(std::shared_ptr<net::Session> s) {
@@ -41,11 +50,17 @@ void ClientHub::add(std::shared_ptr<net::Session> s) {
     count_clients_locked();
 }
 
-void ClientHub::browser_joined(uint64_t id) {
+void ClientHub::browser_joined(uint64_t id, bool h264) {
     std::lock_guard lock(mutex_);
     if (!accepting_) return;
-    clients_[id | kBrowserBit] = Client{nullptr, FrameCodec::jpeg};
+    clients_[id | kBrowserBit] = Client{nullptr, FrameCodec::jpeg, h264, true};
     count_clients_locked();
+}
+
+void ClientHub::browser_needs_key(uint64_t id) {
+    std::lock_guard lock(mutex_);
+    if (const auto it = clients_.find(id | kBrowserBit); it != clients_.end())
+        it->second.needs_key = true;
 }
 
 void ClientHub::browser_left(uint64_t id) {
@@ -114,21 +129,73 @@ std::size_t ClientHub::size() const {
     return clients_.size();
 }
 
+std::optional<H264Picture> ClientHub::encode_h264(const FloatImage& image, bool key) {
+    if (h264_failed_) return std::nullopt;
+    if (!h264_ || h264_->settings().width != image.width ||
+        h264_->settings().height != image.height) {
+        auto opened = H264Encoder::open(browser_stream(image.width, image.height));
+        if (!opened) {
+            spdlog::error("{}: browsers get JPEG", opened.error().message);
+            h264_failed_ = true;
+            return std::nullopt;
+        }
+        h264_ = std::move(*opened);
+        key = true;
+    }
+    auto picture = h264_->encode(tonemap_to_srgb8(image), key);
+    if (!picture) {
+        spdlog::error("{}", picture.error().message);
+        return std::nullopt;
+    }
+    return std::move(*picture);
+}
+
+void ClientHub::send_to_browser(uint64_t key, const Client& c, const std::string& jpeg,
+                                const std::optional<H264Picture>& video, const ShownFrame& shown,
+                                uint64_t echo, std::size_t& bytes) {
+    const bool h264 = c.h264 && video;
+    if (h264 && c.needs_key && !video->key) return;  // not decodable for it
+    WebFrameHeader header{h264 ? WebCodec::h264 : WebCodec::jpeg,
+                          !h264 || video->key,
+                          clamp16(shown.width),
+                          clamp16(shown.height),
+                          clamp16(shown.render_width),
+                          clamp16(shown.render_height),
+                          clamp16(shown.spp),
+                          shown.frame,
+                          echo,
+                          web_->clock_us()};
+    auto message =
+        std::make_shared<const std::string>(encode_web_frame(header, h264 ? video->bytes : jpeg));
+    bytes += message->size();
+    const MessageKind kind = !h264        ? MessageKind::independent
+                             : video->key ? MessageKind::key
+                                          : MessageKind::delta;
+    web_->send(key & ~kBrowserBit, std::move(message), kind);
+}
+
 void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
     const FrameInputs applied = inputs_of(shown.frame);
     std::vector<std::pair<uint64_t, Client>> targets;
+    bool h264 = false, key = false;
     {
         std::lock_guard lock(mutex_);
         targets.assign(clients_.begin(), clients_.end());
+        for (auto& [id, c] : clients_) {
+            h264 = h264 || c.h264;
+            key = key || (c.h264 && c.needs_key);
+        }
     }
-    const auto echo = [&](uint64_t key) {
-        const auto it = applied.newest.find(key);
+    const auto echo = [&](uint64_t id) {
+        const auto it = applied.newest.find(id);
         return it == applied.newest.end() ? uint64_t(0) : it->second;
     };
-    std::map<FrameCodec, std::string> pictures;  // outside the lock: encoding takes milliseconds
+    // Outside the lock: encoding takes milliseconds.
+    const std::optional<H264Picture> video = h264 && web_ ? encode_h264(image, key) : std::nullopt;
+    std::map<FrameCodec, std::string> pictures;
     std::size_t bytes = 0;
-    for (auto& [key, c] : targets) {
-        if (!pictures.count(c.codec)) {
+    for (auto& [id, c] : targets) {
+        if (!pictures.count(c.codec) && !(c.h264 && video)) {
             auto encoded = encode_frame(image, c.codec, jpeg_quality_);
             if (!encoded) {
                 spdlog::error("frame {}: {}", shown.frame, encoded.error().message);
@@ -136,27 +203,24 @@ void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
             }
             pictures[c.codec] = std::move(*encoded);
         }
-        const std::string& picture = pictures[c.codec];
         if (c.session) {
             const std::string message =
                 wire::encode_frame({shown.frame, uint32_t(image.width), uint32_t(image.height),
-                                    c.codec, picture, echo(key)});
+                                    c.codec, pictures[c.codec], echo(id)});
             bytes += message.size();
             c.session->send(message);
         } else if (web_) {
-            const WebFrameHeader header{WebCodec::jpeg,
-                                        clamp16(image.width),
-                                        clamp16(image.height),
-                                        clamp16(shown.render_width),
-                                        clamp16(shown.render_height),
-                                        clamp16(shown.spp),
-                                        shown.frame,
-                                        echo(key),
-                                        web_->clock_us()};
-            auto message = std::make_shared<const std::string>(encode_web_frame(header, picture));
-            bytes += message->size();
-            web_->send(key & ~kBrowserBit, std::move(message));
+            ShownFrame sized = shown;
+            sized.width = image.width;
+            sized.height = image.height;
+            send_to_browser(id, c, pictures[c.codec], video, sized, echo(id), bytes);
         }
+    }
+    if (video && video->key) {  // those that were sent it (not those that joined since)
+        std::lock_guard lock(mutex_);
+        for (const auto& [id, sent] : targets)
+            if (const auto it = clients_.find(id); sent.h264 && it != clients_.end())
+                it->second.needs_key = false;
     }
     metrics_.add_client_bytes(bytes);
     const auto now = Clock::now();

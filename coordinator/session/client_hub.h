@@ -11,9 +11,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "common/film/film.h"
+#include "common/film/h264_codec.h"
 #include "common/net/session.h"
 #include "coordinator/frame/farm_metrics.h"
 #include "coordinator/frame/frame_encoder.h"
@@ -27,6 +29,7 @@ class WebPort;
 struct ShownFrame {
     uint64_t frame = 0;
     int render_width = 0, render_height = 0, spp = 0;
+    int width = 0, height = 0;  // the picture's (set by the hub)
 };
 
 class ClientHub {
@@ -39,7 +42,8 @@ public:
     void add(std::shared_ptr<net::Session> session);  // installs its handlers
     // --- HTTP thread: the browsers of `port` (set before any joins; it outlives the hub's use)
     void attach(WebPort* port) { web_ = port; }
-    void browser_joined(uint64_t id);
+    void browser_joined(uint64_t id, bool h264);
+    void browser_needs_key(uint64_t id);  // its stream lost a picture
     void browser_input(uint64_t id, const PlayerInput& input);
     void browser_left(uint64_t id);
 
@@ -60,6 +64,8 @@ private:
     struct Client {
         std::shared_ptr<net::Session> session;  // none: a browser
         FrameCodec codec = FrameCodec::jpeg;
+        bool h264 = false;      // a browser that decodes H.264
+        bool needs_key = true;  // H.264: the next picture it gets must be an IDR frame
     };
     struct Pending {
         uint64_t client;
@@ -75,10 +81,18 @@ private:
     void queue_input(uint64_t key, const PlayerInput& input);
     FrameInputs inputs_of(uint64_t frame);
     void count_clients_locked();
+    // The browsers' H.264 stream (one encoder, every H.264 browser sees the same pictures);
+    // none when it cannot be encoded (those browsers get JPEG).
+    std::optional<H264Picture> encode_h264(const FloatImage& image, bool key);
+    void send_to_browser(uint64_t key, const Client& c, const std::string& jpeg,
+                         const std::optional<H264Picture>& video, const ShownFrame& shown,
+                         uint64_t echo, std::size_t& bytes);
 
     int jpeg_quality_;
     FarmMetrics& metrics_;
     WebPort* web_ = nullptr;
+    std::unique_ptr<H264Encoder> h264_;  // display thread
+    bool h264_failed_ = false;
     mutable std::mutex mutex_;
     std::map<uint64_t, Client> clients_;
     std::vector<Pending> pending_;

@@ -141,10 +141,11 @@ Status Farm::listen(net::NetService& net) {
 // The browsers join the client hub; 0 when the port is off.
 Result<uint16_t> Farm::open_http_port() {
     if (!o_.http_port) return uint16_t(0);
-    BrowserEvents events{
-        [this](uint64_t id) { clients_.browser_joined(id); },
-        [this](uint64_t id) { clients_.browser_left(id); },
-        [this](uint64_t id, const PlayerInput& in) { clients_.browser_input(id, in); }};
+    BrowserEvents events;
+    events.joined = [this](uint64_t id, bool h264) { clients_.browser_joined(id, h264); };
+    events.left = [this](uint64_t id) { clients_.browser_left(id); };
+    events.needs_key = [this](uint64_t id) { clients_.browser_needs_key(id); };
+    events.input = [this](uint64_t id, const PlayerInput& in) { clients_.browser_input(id, in); };
     web_ = std::make_unique<WebPort>(o_.http_token, metrics_, std::move(events));
     clients_.attach(web_.get());
     return web_->start(o_.bind_address, *o_.http_port);

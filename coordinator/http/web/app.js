@@ -1,11 +1,14 @@
-// pathfarm's browser client: the coordinator's frames on a canvas; W A S D, mouse look
-// (pointer lock), arrow keys and E sent back as inputs; an overlay with the frame rate,
-// input-to-frame latency (p50 / p99), render size and samples per pixel. The messages are
-// those of coordinator/http/web_protocol.h (docs/web.md, "Protocol").
+// pathfarm's browser client: the coordinator's frames on a canvas (H.264 through WebCodecs
+// where the browser has a decoder for it, JPEG otherwise); W A S D, mouse look (pointer lock),
+// arrow keys and E sent back as inputs; an overlay with the frame rate, input-to-frame latency
+// (p50 / p99), render size and samples per pixel. The messages are those of
+// coordinator/http/web_protocol.h (docs/web.md, "Protocol").
 'use strict';
 
 const WALK_M_PER_S = 2.0, TURN_RAD_PER_S = 1.5, MOUSE_RAD_PER_PX = 0.0025; // as the SDL client
-const INPUT_PERIOD_MS = 16, FRAME_HEADER_BYTES = 40, KEEP_SAMPLES = 300;
+const INPUT_PERIOD_MS = 16, FRAME_HEADER_BYTES = 48, KEEP_SAMPLES = 300;
+const CODEC_H264 = 1; // the header's codec byte (0: JPEG)
+const H264_CODEC = 'avc1.64001F'; // High profile (the stream's), up to 1280x720 at 30 frames/s
 
 const canvas = document.getElementById('frame');
 const context = canvas.getContext('2d');
@@ -20,6 +23,8 @@ const state = {
   arrivalsMs: [],          // frame arrival times, for the frame rate
   keys: new Set(), move: [0, 0, 0, 0, 0], action: false, lastSend: 0, lastTick: 0,
   drawing: false, newest: null,
+  codec: 'jpeg',           // what this page asked for
+  decoder: null, waitingForKey: true, // H.264
 };
 window.pathfarm = state;
 
@@ -41,10 +46,11 @@ function decodeFrame(buffer) {
     throw new Error('not a version-1 frame');
   }
   return {
-    codec: v.getUint8(5), width: v.getUint16(6, true), height: v.getUint16(8, true),
-    renderWidth: v.getUint16(10, true), renderHeight: v.getUint16(12, true),
-    spp: v.getUint16(14, true), frame: Number(v.getBigUint64(16, true)),
-    lastInput: Number(v.getBigUint64(24, true)),
+    codec: v.getUint8(5), key: (v.getUint8(6) & 1) === 1,
+    width: v.getUint16(8, true), height: v.getUint16(10, true),
+    renderWidth: v.getUint16(12, true), renderHeight: v.getUint16(14, true),
+    spp: v.getUint16(16, true), frame: Number(v.getBigUint64(24, true)),
+    lastInput: Number(v.getBigUint64(32, true)),
     picture: new Uint8Array(buffer, FRAME_HEADER_BYTES),
   };
 }
@@ -63,7 +69,40 @@ function frameArrived(header, now) {
   state.lastHeader = header;
 }
 
-// Draws the newest picture; pictures that arrive while one is decoded replace each other.
+function show(image) {
+  if (canvas.width !== image.displayWidth || canvas.height !== image.displayHeight) {
+    canvas.width = image.displayWidth;
+    canvas.height = image.displayHeight;
+  }
+  context.drawImage(image, 0, 0);
+  image.close();
+}
+
+// H.264 pictures go to the decoder in order (each depends on the one before); after an error,
+// or before the first picture, it waits for an IDR frame. A decoder error drops the socket:
+// the coordinator sends a joining browser an IDR frame.
+function decodeVideo(header) {
+  if (!state.decoder || state.decoder.state === 'closed') {
+    state.decoder = new VideoDecoder({
+      output: show,
+      error: (error) => {
+        console.error('H.264', error);
+        state.decoder = null;
+        state.waitingForKey = true;
+        if (state.socket) state.socket.close();
+      },
+    });
+    state.decoder.configure({ codec: H264_CODEC, optimizeForLatency: true });
+    state.waitingForKey = true;
+  }
+  if (state.waitingForKey && !header.key) return;
+  state.waitingForKey = false;
+  state.decoder.decode(new EncodedVideoChunk({
+    type: header.key ? 'key' : 'delta', timestamp: header.frame * 100000, data: header.picture,
+  }));
+}
+
+// Draws the newest JPEG; pictures that arrive while one is decoded replace each other.
 async function draw() {
   if (state.drawing) return;
   state.drawing = true;
@@ -95,18 +134,36 @@ function encodeInput(sequence, move, action) {
   return v.buffer;
 }
 
+// H.264 where this browser can decode it (WebCodecs needs a secure context: https, or
+// localhost), unless the URL says ?codec=jpeg.
+async function chooseCodec() {
+  if (new URLSearchParams(location.search).get('codec') === 'jpeg') return 'jpeg';
+  if (!('VideoDecoder' in window)) return 'jpeg';
+  try {
+    const support = await VideoDecoder.isConfigSupported({ codec: H264_CODEC, optimizeForLatency: true });
+    return support.supported ? 'h264' : 'jpeg';
+  } catch (error) {
+    return 'jpeg';
+  }
+}
+
 function connect() {
+  const query = new URLSearchParams({ codec: state.codec });
   const token = new URLSearchParams(location.search).get('token');
+  if (token) query.set('token', token);
   const scheme = location.protocol === 'https:' ? 'wss://' : 'ws://';
-  const socket = new WebSocket(scheme + location.host + '/ws' +
-                               (token ? '?token=' + encodeURIComponent(token) : ''));
+  const socket = new WebSocket(scheme + location.host + '/ws?' + query.toString());
   socket.binaryType = 'arraybuffer';
   socket.onopen = () => { state.connected = true; };
   socket.onmessage = (event) => {
     const header = decodeFrame(event.data);
     frameArrived(header, performance.now());
-    state.newest = header;
-    draw();
+    if (header.codec === CODEC_H264) {
+      decodeVideo(header);
+    } else {
+      state.newest = header;
+      draw();
+    }
   };
   socket.onclose = () => {
     state.connected = false;
@@ -149,7 +206,8 @@ function showOverlay() {
   const ms = (q) => (state.latenciesMs.length ? quantile(state.latenciesMs, q).toFixed(0) : '-');
   overlay.textContent = !state.connected ? 'connecting…' :
     `${fps.toFixed(1)} frames/s   latency p50 ${ms(0.5)} ms  p99 ${ms(0.99)} ms\n` +
-    (h ? `render ${h.renderWidth}x${h.renderHeight}  ${h.spp} spp   frame ${h.frame}` : '');
+    (h ? `render ${h.renderWidth}x${h.renderHeight}  ${h.spp} spp   frame ${h.frame}  ` +
+         (h.codec === CODEC_H264 ? 'H.264' : 'JPEG') : '');
 }
 
 document.addEventListener('keydown', (e) => {
@@ -166,6 +224,9 @@ document.addEventListener('mousemove', (e) => {
   state.move[4] -= e.movementY * MOUSE_RAD_PER_PX;
 });
 
-connect();
+chooseCodec().then((codec) => {
+  state.codec = codec;
+  connect();
+});
 requestAnimationFrame(tick);
 setInterval(showOverlay, 250);

@@ -11,12 +11,15 @@ namespace pathfarm::coord {
 namespace {
 
 TEST(WebProtocol, FrameHeaderRoundTripsAndPrecedesThePicture) {
-    const WebFrameHeader h{WebCodec::jpeg, 320, 180, 160, 90, 2, 123456789012345ull, 77, 987654321};
+    const WebFrameHeader h{WebCodec::h264,     false, 320,      180, 160, 90, 2,
+                           123456789012345ull, 77,    987654321};
     const std::string m = encode_web_frame(h, "JPEGDATA");
     ASSERT_EQ(m.size(), kWebFrameHeaderBytes + 8);
     EXPECT_EQ(m.substr(kWebFrameHeaderBytes), "JPEGDATA");
     auto back = decode_web_frame_header(m);
     ASSERT_TRUE(back) << back.error().message;
+    EXPECT_EQ(back->codec, WebCodec::h264);
+    EXPECT_FALSE(back->key);
     EXPECT_EQ(back->width, 320);
     EXPECT_EQ(back->height, 180);
     EXPECT_EQ(back->render_width, 160);
@@ -27,8 +30,11 @@ TEST(WebProtocol, FrameHeaderRoundTripsAndPrecedesThePicture) {
     EXPECT_EQ(back->sent_us, 987654321u);
     // The page reads these offsets (coordinator/http/web/app.js).
     EXPECT_EQ(m.substr(0, 4), "PFWF");
-    EXPECT_EQ(uint8_t(m[16]), 0x79);  // frame, little-endian: 123456789012345 = 0x7048860DDF79
-    EXPECT_EQ(uint8_t(m[24]), 77);
+    EXPECT_EQ(uint8_t(m[5]), 1);  // codec
+    EXPECT_EQ(uint8_t(m[6]), 0);  // flags: not a key picture
+    EXPECT_EQ(uint8_t(m[8]), 320 & 255);
+    EXPECT_EQ(uint8_t(m[24]), 0x79);  // frame, little-endian: 123456789012345 = 0x7048860DDF79
+    EXPECT_EQ(uint8_t(m[32]), 77);
 }
 
 TEST(WebProtocol, InputRoundTripsWithinTheBounds) {
