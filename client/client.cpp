@@ -17,6 +17,7 @@
 #include "client/game_window.h"
 #include "common/base/timer.h"
 #include "common/film/float_codec.h"
+#include "common/film/h264_codec.h"
 #include "common/film/image_io.h"
 #include "common/film/jpeg_codec.h"
 #include "common/film/tonemap.h"
@@ -73,7 +74,8 @@ struct DecodedFrame {
     std::optional<FloatImage> linear;
 };
 
-Result<DecodedFrame> decode_image(const wire::EncodedFrame& f) {
+// `video`: the H.264 stream's decoder (each picture depends on the ones before).
+Result<DecodedFrame> decode_image(const wire::EncodedFrame& f, H264Decoder& video) {
     DecodedFrame d{int(f.width), int(f.height), {}, {}};  // sizes checked by wire::decode_frame
     if (f.codec == wire::FrameCodec::float_zstd) {
         auto rgb = decompress_floats(f.data, std::size_t(d.width) * d.height * 3);
@@ -84,7 +86,15 @@ Result<DecodedFrame> decode_image(const wire::EncodedFrame& f) {
         return d;
     }
     int w = 0, h = 0;
-    if (f.codec == wire::FrameCodec::jpeg) {
+    if (f.codec == wire::FrameCodec::h264) {
+        auto picture = video.decode(f.data);
+        if (!picture)
+            return make_error(ErrorCode::parse_error, "frame {}: {}", f.frame,
+                              picture.error().message);
+        w = picture->width;
+        h = picture->height;
+        d.srgb8 = std::move(picture->rgb);
+    } else if (f.codec == wire::FrameCodec::jpeg) {
         auto jpeg = decode_jpeg(f.data);
         if (!jpeg) return jpeg.error();
         w = jpeg->width;
@@ -111,6 +121,14 @@ Status write_frame(const ClientOptions& o, const wire::EncodedFrame& f, const De
     if (o.out_dir.empty()) return {};
     const std::string base = fmt::format("{}/frame_{:06d}", o.out_dir, f.frame);
     if (d.linear) return write_image(base + ".exr", *d.linear);
+    if (f.codec == wire::FrameCodec::h264) {  // the frame as shown, and the playable stream
+        std::ofstream(o.out_dir + "/stream.h264", std::ios::binary | std::ios::app) << f.data;
+        auto png = encode_png(d.width, d.height, d.srgb8);
+        if (!png) return png.error();
+        std::ofstream(base + ".png", std::ios::binary)
+            .write(reinterpret_cast<const char*>(png->data()), std::streamsize(png->size()));
+        return {};
+    }
     // Keep the coordinator's bytes.
     std::ofstream(base + (f.codec == wire::FrameCodec::png ? ".png" : ".jpg"), std::ios::binary)
         << f.data;
@@ -146,6 +164,8 @@ int codec_for(OutputFormat f) {
             return int(wire::FrameCodec::float_zstd);
         case OutputFormat::png:
             return int(wire::FrameCodec::png);
+        case OutputFormat::h264:
+            return int(wire::FrameCodec::h264);
         case OutputFormat::jpeg:
             break;
     }
@@ -199,7 +219,12 @@ public:
         }
         stats_.frame_arrived(f->frame, f->last_input_sequence, Clock::now());
         if (report_.frames == 0) timer_.reset();  // between frames, not connection time
-        auto frame = decode_image(*f);
+        if (!video_) {
+            auto opened = H264Decoder::open();
+            if (!opened) return opened.error();
+            video_ = std::move(*opened);
+        }
+        auto frame = decode_image(*f, *video_);
         if (!frame) {
             spdlog::error("{}", frame.error().message);
             return true;
@@ -264,6 +289,7 @@ private:
     GameWindow* window_;
     InputSender input_;
     ContactSheet sheet_;
+    std::unique_ptr<H264Decoder> video_;
     ClientReport report_;
     Timer timer_;
     Clock::time_point last_poll_ = Clock::now(), last_send_ = last_poll_, last_action_ = last_poll_;

@@ -13,13 +13,13 @@
 
 namespace pathfarm::client {
 
-enum class OutputFormat { jpeg, png, exr };
+enum class OutputFormat { jpeg, png, exr, h264 };
 
 struct ClientOptions {
     std::string host = "127.0.0.1";
     uint16_t port = 0;
     std::string secret;
-    bool window = false;  // SDL2 window with keyboard and mouse; else headless
+    bool window = false;              // SDL2 window with keyboard and mouse; else headless
     int frames = 0;       // stop after this many frames (0: until the coordinator closes)
     std::string out_dir;  // empty: do not write frames
     OutputFormat format = OutputFormat::jpeg;

@@ -32,9 +32,10 @@ void add_options(CLI::App& app, CommandLine& c) {
         ->capture_default_str();
     app.add_option("--out", o.out_dir, "Folder for received frames");
     app.add_option("--format", c.format,
-                   "Frame format to request and write: jpeg, png or exr (lossless linear float)")
+                   "Frame format to request and write: jpeg, png, exr (lossless linear float) "
+                   "or h264 (the stream, written as stream.h264)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"jpeg", "png", "exr"}));
+        ->check(CLI::IsMember({"jpeg", "png", "exr", "h264"}));
     app.add_option("--latency-csv", o.latency_csv,
                    "Per frame: frame,arrival_ms,interval_ms,inputs_acked,latency_ms");
     app.add_option("--turn-rate", o.turn_rate,
@@ -58,9 +59,10 @@ pathfarm::Status finish_options(CommandLine& c) {
     if (!endpoint) return endpoint.error();
     o.host = endpoint->host;
     o.port = endpoint->port;
-    o.format = c.format == "exr"   ? pathfarm::client::OutputFormat::exr
-               : c.format == "png" ? pathfarm::client::OutputFormat::png
-                                   : pathfarm::client::OutputFormat::jpeg;
+    o.format = c.format == "exr"    ? pathfarm::client::OutputFormat::exr
+               : c.format == "png"  ? pathfarm::client::OutputFormat::png
+               : c.format == "h264" ? pathfarm::client::OutputFormat::h264
+                                    : pathfarm::client::OutputFormat::jpeg;
     auto secret = pathfarm::net::load_secret(c.secret_file);
     if (!secret) return secret.error();
     o.secret = *secret;

@@ -4,6 +4,6 @@
 
 namespace pathfarm::wire {
 
-enum class FrameCodec : int { png = 1, float_zstd = 2, jpeg = 3 };
+enum class FrameCodec : int { png = 1, float_zstd = 2, jpeg = 3, h264 = 4 };
 
 }  // namespace pathfarm::wire

@@ -192,7 +192,7 @@ Result<EncodedFrame> decode_frame(const std::string& bytes) {
     if (!e) return e.error();
     const pb::EncodedFrame& w = e->frame();
     if (w.codec() != pb::FRAME_CODEC_PNG && w.codec() != pb::FRAME_CODEC_FLOAT_ZSTD &&
-        w.codec() != pb::FRAME_CODEC_JPEG)
+        w.codec() != pb::FRAME_CODEC_JPEG && w.codec() != pb::FRAME_CODEC_H264)
         return make_error(ErrorCode::parse_error, "frame {}: codec {} unknown", w.frame(),
                           int(w.codec()));
     if (w.width() == 0 || w.height() == 0 || w.width() > kMaxImageSide ||

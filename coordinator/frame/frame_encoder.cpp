@@ -9,6 +9,8 @@
 namespace pathfarm::coord {
 
 Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec, int jpeg_quality) {
+    if (codec == FrameCodec::h264)
+        return make_error(ErrorCode::invalid_argument, "H.264 is a stream: ClientHub encodes it");
     if (codec == FrameCodec::float_zstd)
         return compress_floats(image.rgb.data(), image.rgb.size(), 3);
     if (codec == FrameCodec::jpeg)
@@ -21,7 +23,7 @@ Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec, int 
 FrameCodec choose_codec(const std::vector<int>& accepted) {
     for (int c : accepted)
         if (c == int(FrameCodec::png) || c == int(FrameCodec::float_zstd) ||
-            c == int(FrameCodec::jpeg))
+            c == int(FrameCodec::jpeg) || c == int(FrameCodec::h264))
             return FrameCodec(c);
     return FrameCodec::jpeg;
 }

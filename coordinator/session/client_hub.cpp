@@ -25,11 +25,11 @@ PlayerInput player_input(const wire::Input& in) {
 
 uint16_t clamp16(int v) { return uint16_t(std::clamp(v, 0, 65535)); }
 
-// The browsers' stream (docs/web.md, "H.264"): x264's veryfast preset with the high profile
+// The H.264 stream (docs/web.md, "H.264"): x264's veryfast preset with the high profile
 // (CABAC, 8x8 transforms) and zerolatency; CRF 18 is about JPEG q90's PSNR on the demo's
 // frames at 320x180 (bench/codec_bench.py). An IDR frame every 10 s at 10 frames/s, and
 // whenever a browser joins or lost a picture.
-H264Settings browser_stream(int width, int height) {
+H264Settings h264_stream(int width, int height) {
     return {width, height, 10.0, 100, 18, 1, "veryfast", "high", "zerolatency"};
 }
 
@@ -46,7 +46,8 @@ void ClientHub::add(std::shared_ptr<net::Session> s) {
     };
     std::lock_guard lock(mutex_);
     if (!accepting_) return s->close("coordinator finishing");
-    clients_[id] = Client{s, choose_codec(s->peer().codecs)};
+    const FrameCodec codec = choose_codec(s->peer().codecs);
+    clients_[id] = Client{s, codec, codec == FrameCodec::h264, true};
     count_clients_locked();
 }
 
@@ -133,7 +134,7 @@ std::optional<H264Picture> ClientHub::encode_h264(const FloatImage& image, bool 
     if (h264_failed_) return std::nullopt;
     if (!h264_ || h264_->settings().width != image.width ||
         h264_->settings().height != image.height) {
-        auto opened = H264Encoder::open(browser_stream(image.width, image.height));
+        auto opened = H264Encoder::open(h264_stream(image.width, image.height));
         if (!opened) {
             spdlog::error("{}: browsers get JPEG", opened.error().message);
             h264_failed_ = true;
@@ -191,11 +192,13 @@ void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
         return it == applied.newest.end() ? uint64_t(0) : it->second;
     };
     // Outside the lock: encoding takes milliseconds.
-    const std::optional<H264Picture> video = h264 && web_ ? encode_h264(image, key) : std::nullopt;
+    const std::optional<H264Picture> video = h264 ? encode_h264(image, key) : std::nullopt;
     std::map<FrameCodec, std::string> pictures;
     std::size_t bytes = 0;
     for (auto& [id, c] : targets) {
-        if (!pictures.count(c.codec) && !(c.h264 && video)) {
+        const bool as_video = c.h264 && video;
+        if (c.session && c.h264 && !video) continue;  // a native H.264 client takes nothing else
+        if (!as_video && !pictures.count(c.codec)) {
             auto encoded = encode_frame(image, c.codec, jpeg_quality_);
             if (!encoded) {
                 spdlog::error("frame {}: {}", shown.frame, encoded.error().message);
@@ -204,9 +207,10 @@ void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
             pictures[c.codec] = std::move(*encoded);
         }
         if (c.session) {
-            const std::string message =
-                wire::encode_frame({shown.frame, uint32_t(image.width), uint32_t(image.height),
-                                    c.codec, pictures[c.codec], echo(id)});
+            if (as_video && c.needs_key && !video->key) continue;
+            const std::string message = wire::encode_frame(
+                {shown.frame, uint32_t(image.width), uint32_t(image.height), c.codec,
+                 as_video ? video->bytes : pictures[c.codec], echo(id)});
             bytes += message.size();
             c.session->send(message);
         } else if (web_) {

@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -19,6 +20,9 @@
 
 #include <gtest/gtest.h>
 
+#include "common/film/image_compare.h"
+#include "common/film/image_io.h"
+#include "common/film/jpeg_codec.h"
 #include "tests/support/farm_harness.h"
 #include "tests/support/process.h"
 #include "tests/support/test_env.h"
@@ -184,6 +188,71 @@ TEST(FarmFaults, ClientLeavingMidStreamDisturbsNothing) {
     EXPECT_NE(test::read_file(farm.dir + "/client.log").find("frames=2"), std::string::npos);
     EXPECT_TRUE(test::images_identical(farm.dir + "/received/frame_000001.exr", farm.reference(1)))
         << "lossless frames reach the client exactly";
+}
+
+// A native client may take the H.264 stream (the browsers' one): it decodes every frame, and
+// what it shows is the JPEG client's picture within a codec's error. One H.264 client watches
+// from the start, so the stream is running when a second joins mid-stream: the late one's
+// first picture must be an IDR frame made for it (a delta frame would not decode to the
+// picture).
+TEST(FarmClients, H264AndJpegClientsSeeTheSameFrames) {
+    Farm farm;
+    farm.start({"--frames", "16"});
+    const auto client = [&](const std::string& name, const std::string& format,
+                            const std::string& frames) {
+        return std::make_unique<Process>(
+            std::vector<std::string>{
+                kClient, "--connect", "127.0.0.1:" + std::to_string(farm.client_port), "--headless",
+                "--frames", frames, "--out", farm.dir + "/" + name, "--format", format},
+            farm.dir + "/" + name + ".log");
+    };
+    auto jpeg = client("jpeg", "jpeg", "16");
+    auto early = client("early", "h264", "16");
+    const auto connected = [&] {  // both before frame 0 (no tracer yet: no frames)
+        const std::string log = test::read_file(farm.dir + "/coordinator.log");
+        const std::string line = "\"headless-client\" connected";
+        const auto first = log.find(line);
+        return first != std::string::npos && log.find(line, first + 1) != std::string::npos;
+    };
+    for (int wait = 0; wait < 500 && !connected(); ++wait)
+        std::this_thread::sleep_for(20ms);
+    ASSERT_TRUE(connected());
+    farm.add_tracer("t", {"--slowdown", "5", "--max-reconnects", "0"});
+    for (int wait = 0; wait < 300 && farm.csv("stats.csv").size() < 4; ++wait)
+        std::this_thread::sleep_for(20ms);
+    ASSERT_GE(farm.csv("stats.csv").size(), 4u);
+    auto late = client("late", "h264", "6");
+    for (auto* p : {&jpeg, &early, &late})
+        EXPECT_EQ((*p)->wait(30s), std::optional<int>(0));
+    ASSERT_EQ(farm.finish(), 0);
+    for (const std::string name : {"early", "late"}) {
+        const std::string log = test::read_file(farm.dir + "/" + name + ".log");
+        EXPECT_EQ(log.find("H.264"), std::string::npos) << "no picture failed to decode\n" << log;
+        const std::string stream = farm.dir + "/" + name + "/stream.h264";
+        EXPECT_TRUE(std::filesystem::exists(stream) && std::filesystem::file_size(stream) > 0)
+            << stream;
+    }
+    std::map<std::string, int> compared;
+    for (int f = 0; f < 16; ++f) {
+        const std::string frame = fmt::format("frame_{:06d}", f);
+        const std::string jpg = farm.dir + "/jpeg/" + frame + ".jpg";
+        for (const std::string name : {"early", "late"}) {
+            const std::string png = farm.dir + "/" + name + "/" + frame + ".png";
+            if (!std::filesystem::exists(png) || !std::filesystem::exists(jpg)) continue;
+            const std::string a = test::read_file(png), b = test::read_file(jpg);
+            auto shown =
+                decode_rgba8(reinterpret_cast<const unsigned char*>(a.data()), a.size(), png);
+            auto other = decode_jpeg(b);
+            ASSERT_TRUE(shown && other);
+            std::vector<uint8_t> rgb;
+            for (std::size_t i = 0; i < shown->rgba.size(); ++i)
+                if (i % 4 != 3) rgb.push_back(shown->rgba[i]);
+            EXPECT_GT(psnr8(rgb, other->rgb), 30.0) << name << " " << frame;
+            ++compared[name];
+        }
+    }
+    EXPECT_EQ(compared["early"], 16);
+    EXPECT_EQ(compared["late"], 6);
 }
 
 TEST(FarmCli, BadInputIsAOneLineError) {
