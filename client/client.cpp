@@ -319,6 +319,7 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
     config.host = o.host;
     config.port = o.port;
     config.secret = o.secret;
+    config.tls = !o.insecure_plaintext;
     config.hello.role = net::PeerRole::client;
     config.hello.name = o.window ? "window-client" : "headless-client";
     config.hello.codecs = {codec_for(o.format)};

@@ -19,6 +19,7 @@ struct ClientOptions {
     std::string host = "127.0.0.1";
     uint16_t port = 0;
     std::string secret;
+    bool insecure_plaintext = false;  // the coordinator link in the clear (benchmarks only)
     bool window = false;              // SDL2 window with keyboard and mouse; else headless
     int frames = 0;       // stop after this many frames (0: until the coordinator closes)
     std::string out_dir;  // empty: do not write frames

@@ -24,6 +24,10 @@ void add_options(CLI::App& app, CommandLine& c) {
     app.add_option("--connect", c.connect, "Coordinator client port, HOST:PORT")->required();
     app.add_option("--secret-file", c.secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
+    app.add_flag(
+        "--insecure-plaintext", o.insecure_plaintext,
+        "Benchmarks only: no TLS on the coordinator link (commits, tiles and frames in the "
+        "clear); the other end must say so too");
     app.add_flag("--headless", c.headless,
                  "No window: write frames to --out (default: a window with WASD + mouse look, "
                  "E for action, Esc to quit)");

@@ -154,6 +154,9 @@ void add_farm_options(CLI::App& app, Command& c) {
                        columns(pathfarm::coord::kUnitCostColumns));
     app.add_option("--secret-file", c.secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
+    app.add_flag("--insecure-plaintext", f.insecure_plaintext,
+                 "Benchmarks only: no TLS on tracer and client links (commits, tiles and frames "
+                 "in the clear); tracers and clients must say so too");
     app.add_option("--tracer-stats-csv", f.tracer_stats_csv,
                    "Per tracer and frame" + columns(pathfarm::coord::kTracerStatsColumns));
     app.add_option("--stages-csv", f.stages_csv,

@@ -24,6 +24,10 @@ int main(int argc, char** argv) {
     pathfarm::tracer::add_backend_options(app, o.backend, o.threads, o.cl_platform, o.cl_device);
     app.add_option("--secret-file", secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
+    app.add_flag(
+        "--insecure-plaintext", o.insecure_plaintext,
+        "Benchmarks only: no TLS on the coordinator link (commits, tiles and frames in the "
+        "clear); the other end must say so too");
     app.add_option("--name", o.name, "Name shown in the coordinator's statistics")
         ->capture_default_str();
     app.add_option("--slowdown", o.slowdown,

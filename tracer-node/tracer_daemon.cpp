@@ -55,6 +55,7 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     config.host = o.host;
     config.port = o.port;
     config.secret = o.secret;
+    config.tls = !o.insecure_plaintext;
     config.hello.role = net::PeerRole::tracer;
     config.hello.name = o.name;
     config.hello.backend = o.backend;

@@ -18,6 +18,7 @@ struct TracerOptions {
     int cl_platform = 0;  // OpenCL backend: platform and device index
     int cl_device = 0;
     std::string secret;
+    bool insecure_plaintext = false;  // the coordinator link in the clear (benchmarks only)
     std::string name = "tracer";
     double slowdown = 1.0;  // >1: wait (slowdown - 1) x the render time after each tile
     // Probability per frame that this tracer renders it twice as slowly (a hiccup: another job,

@@ -1,7 +1,8 @@
 // Authenticated message sessions over TCP (DESIGN.md, "Protocol"). NetService owns the network
-// thread; every connection starts with the handshake (version, role, capabilities, HMAC
-// challenge-response both ways) and only then becomes a Session that carries serialised
-// Envelopes. A peer that sends something malformed, oversized, out of order or
+// thread; every connection is TLS 1.3 keyed by the farm secret (tls_psk.h; plaintext only when
+// both ends are told --insecure-plaintext) and starts with the handshake (version, role,
+// capabilities, HMAC challenge-response both ways) and only then becomes a Session that carries
+// serialised Envelopes. A peer that sends something malformed, oversized, out of order or
 // unauthenticated gets an Error envelope and is disconnected; nothing else is affected.
 // Asio stays inside session.cpp, protobuf inside handshake.cpp.
 #pragma once
@@ -67,7 +68,8 @@ struct ServerConfig {
     std::vector<PeerRole> roles;  // roles accepted on this port
     std::string secret;
     uint32_t max_message_bytes = 64u << 20;
-    std::chrono::milliseconds handshake_timeout{5000};
+    std::chrono::milliseconds handshake_timeout{5000};  // TLS and the handshake, each
+    bool tls = true;  // false only for --insecure-plaintext (benchmarks)
 };
 
 struct ClientConfig {
@@ -80,6 +82,7 @@ struct ClientConfig {
     std::function<void(const std::string& reason)> on_closed;
     uint32_t max_message_bytes = 128u << 20;
     std::chrono::milliseconds handshake_timeout{5000};
+    bool tls = true;  // false only for --insecure-plaintext (benchmarks)
 };
 
 class NetService {

@@ -115,8 +115,13 @@ Farm::Farm(SceneModel scene, const FarmOptions& o, std::unique_ptr<Balancer> bal
 
 Status Farm::listen(net::NetService& net) {
     const auto config = [&](uint16_t port, net::PeerRole role, uint32_t max_bytes) {
-        return net::ServerConfig{port,      o_.bind_address, {role},
-                                 o_.secret, max_bytes,       std::chrono::milliseconds(5000)};
+        return net::ServerConfig{port,
+                                 o_.bind_address,
+                                 {role},
+                                 o_.secret,
+                                 max_bytes,
+                                 std::chrono::milliseconds(5000),
+                                 !o_.insecure_plaintext};
     };
     auto tracer_port =
         net.listen(config(o_.tracer_port, net::PeerRole::tracer, net::kMaxFromTracerBytes),

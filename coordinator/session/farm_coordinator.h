@@ -25,6 +25,8 @@ struct FarmOptions {
     int deadline_ms = 10000;
     std::optional<int> clip;
     std::string secret;
+    // Tracer and client links in the clear instead of TLS (benchmarks only; both ends must say so).
+    bool insecure_plaintext = false;
     // The HTTP port (docs/web.md): browser client, /metrics, /healthz; none: off. Every route
     // but /healthz needs `http_token` (a random one when empty).
     std::optional<uint16_t> http_port;

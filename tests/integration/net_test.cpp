@@ -1,11 +1,7 @@
-// Sessions on loopback: the handshake authenticates both ways, messages flow, and a peer that
-// is malformed, oversized, out of order, on the wrong version, unauthenticated or silent gets
-// an Error and is disconnected while an established session carries on.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
+// Sessions on loopback, with TLS and with --insecure-plaintext: the handshake authenticates
+// both ways, messages flow, and a peer that is malformed, oversized, out of order, on the wrong
+// version, unauthenticated or silent gets an Error and is disconnected while an established
+// session carries on (in TLS mode the abuse comes through a TLS tunnel with the right key).
 #include <condition_variable>
 #include <mutex>
 
@@ -15,6 +11,7 @@
 #include "common/net/framing.h"
 #include "common/net/session.h"
 #include "pathfarm/wire/v1/envelope.pb.h"
+#include "tests/support/raw_peer.h"
 
 namespace pathfarm::net {
 namespace {
@@ -52,12 +49,15 @@ std::string envelope_with_input(uint64_t seq) {
     return e.SerializeAsString();
 }
 
-struct Fixture : ::testing::Test {
+// The parameter: TLS on (the default) or --insecure-plaintext.
+struct Fixture : ::testing::TestWithParam<bool> {
     NetService net;
     Inbox inbox;
     uint16_t port = 0;
+    bool tls() const { return GetParam(); }
     void SetUp() override {
         ServerConfig config;
+        config.tls = tls();
         config.bind_address = "127.0.0.1";
         config.roles = {PeerRole::tracer};
         config.secret = "correct horse";
@@ -78,56 +78,17 @@ struct Fixture : ::testing::Test {
         c.hello.wants_bvh_nodes = true;
         c.on_message = [](std::string&&) {};
         c.on_closed = [](const std::string&) {};
+        c.tls = tls();
         return c;
     }
+    // A raw peer speaking this fixture's mode with the right secret.
+    std::string raw_secret() const { return tls() ? "correct horse" : ""; }
 };
 
-// A raw TCP peer that speaks bytes, for sending what a well-behaved client never would.
-class RawPeer {
-public:
-    explicit RawPeer(uint16_t port) : fd_(socket(AF_INET, SOCK_STREAM, 0)) {
-        sockaddr_in addr{};
-        addr.sin_family = AF_INET;
-        addr.sin_port = htons(port);
-        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        timeval tv{3, 0};
-        setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-        connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0;
-    }
-    ~RawPeer() { ::close(fd_); }
-    bool connected() const { return connected_; }
-    void send_bytes(const std::string& b) { (void)::send(fd_, b.data(), b.size(), MSG_NOSIGNAL); }
-    // Reads one framed envelope; nullopt on close or timeout.
-    std::optional<pb::Envelope> receive() {
-        unsigned char header[4];
-        if (!read_all(header, 4)) return std::nullopt;
-        const uint32_t n = (uint32_t(header[0]) << 24) | (uint32_t(header[1]) << 16) |
-                           (uint32_t(header[2]) << 8) | header[3];
-        std::string body(n, '\0');
-        if (!read_all(body.data(), n)) return std::nullopt;
-        pb::Envelope e;
-        if (!e.ParseFromString(body)) return std::nullopt;
-        return e;
-    }
-    bool closed_by_peer() {
-        char c;
-        return ::recv(fd_, &c, 1, 0) == 0;
-    }
+INSTANTIATE_TEST_SUITE_P(Links, Fixture, ::testing::Values(true, false),
+                         [](const auto& p) { return p.param ? "Tls" : "Plaintext"; });
 
-private:
-    bool read_all(void* p, std::size_t n) {
-        auto* c = static_cast<char*>(p);
-        while (n > 0) {
-            const ssize_t r = ::recv(fd_, c, n, 0);
-            if (r <= 0) return false;
-            c += r;
-            n -= std::size_t(r);
-        }
-        return true;
-    }
-    int fd_;
-    bool connected_ = false;
-};
+using test::RawPeer;
 
 std::string hello_bytes(uint32_t version = kProtocolVersion) {
     pb::Envelope e;
@@ -137,15 +98,22 @@ std::string hello_bytes(uint32_t version = kProtocolVersion) {
     return frame(e.SerializeAsString());
 }
 
+std::optional<pb::Envelope> receive(RawPeer& peer) {
+    auto body = peer.receive_frame();
+    pb::Envelope e;
+    if (!body || !e.ParseFromString(*body)) return std::nullopt;
+    return e;
+}
+
 void expect_rejected(RawPeer& peer, pb::ErrorCode code) {
-    auto e = peer.receive();
+    auto e = receive(peer);
     ASSERT_TRUE(e.has_value()) << "expected an Error envelope";
     ASSERT_TRUE(e->has_error());
     EXPECT_EQ(e->error().code(), code) << e->error().message();
     EXPECT_TRUE(peer.closed_by_peer());
 }
 
-TEST_F(Fixture, HandshakeAuthenticatesAndMessagesFlow) {
+TEST_P(Fixture, HandshakeAuthenticatesAndMessagesFlow) {
     auto session = net.connect_sync(client("correct horse"));
     ASSERT_TRUE(session.ok()) << session.error().message;
     for (uint64_t i = 0; i < 100; ++i)
@@ -160,38 +128,40 @@ TEST_F(Fixture, HandshakeAuthenticatesAndMessagesFlow) {
     (*session)->close("done");
 }
 
-TEST_F(Fixture, WrongSecretIsRefusedBothWays) {
+TEST_P(Fixture, WrongSecretIsRefusedBothWays) {
     auto bad = net.connect_sync(client("wrong"));
     ASSERT_FALSE(bad.ok());
-    EXPECT_NE(bad.error().message.find("authentication failed"), std::string::npos)
+    // With TLS the key itself differs: the tunnel never opens, the HMAC is never reached.
+    EXPECT_NE(bad.error().message.find(tls() ? "TLS handshake failed" : "authentication failed"),
+              std::string::npos)
         << bad.error().message;
     std::lock_guard lock(inbox.mutex);
     EXPECT_TRUE(inbox.sessions.empty());
 }
 
-TEST_F(Fixture, WrongRoleIsRefused) {
+TEST_P(Fixture, WrongRoleIsRefused) {
     auto bad = net.connect_sync(client("correct horse", PeerRole::client));
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("role client"), std::string::npos) << bad.error().message;
 }
 
-TEST_F(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
+TEST_P(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
     auto good = net.connect_sync(client("correct horse"));
     ASSERT_TRUE(good.ok());
     {
-        RawPeer oversized(port);
+        RawPeer oversized(port, raw_secret());
         ASSERT_TRUE(oversized.connected());
         const unsigned char huge[4] = {0x7f, 0xff, 0xff, 0xff};
         oversized.send_bytes(std::string(reinterpret_cast<const char*>(huge), 4));
         expect_rejected(oversized, pb::ERROR_CODE_OVERSIZED);
     }
     {
-        RawPeer garbage(port);
+        RawPeer garbage(port, raw_secret());
         garbage.send_bytes(frame("\xff\xff\xff\xff not protobuf"));
         expect_rejected(garbage, pb::ERROR_CODE_MALFORMED);
     }
     {
-        RawPeer early(port);
+        RawPeer early(port, raw_secret());
         pb::Envelope proof;
         proof.set_version(kProtocolVersion);
         proof.mutable_proof()->set_mac("guess");
@@ -199,14 +169,14 @@ TEST_F(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
         expect_rejected(early, pb::ERROR_CODE_OUT_OF_ORDER);
     }
     {
-        RawPeer old(port);
+        RawPeer old(port, raw_secret());
         old.send_bytes(hello_bytes(99));
         expect_rejected(old, pb::ERROR_CODE_BAD_VERSION);
     }
     {
-        RawPeer guesser(port);
+        RawPeer guesser(port, raw_secret());
         guesser.send_bytes(hello_bytes());
-        auto challenge = guesser.receive();
+        auto challenge = receive(guesser);
         ASSERT_TRUE(challenge && challenge->has_challenge());
         pb::Envelope proof;
         proof.set_version(kProtocolVersion);
@@ -215,7 +185,7 @@ TEST_F(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
         expect_rejected(guesser, pb::ERROR_CODE_UNAUTHENTICATED);
     }
     {
-        RawPeer silent(port);  // says nothing: the handshake deadline closes it
+        RawPeer silent(port, raw_secret());  // says nothing: the handshake deadline closes it
         expect_rejected(silent, pb::ERROR_CODE_TIMEOUT);
     }
     (*good)->send(envelope_with_input(7));
@@ -224,7 +194,7 @@ TEST_F(Fixture, AbusivePeersAreDisconnectedAndOthersCarryOn) {
     EXPECT_EQ(inbox.sessions.size(), 1u) << "no abusive peer became a session";
 }
 
-TEST_F(Fixture, OversizedMessageAfterHandshakeClosesOnlyThatSession) {
+TEST_P(Fixture, OversizedMessageAfterHandshakeClosesOnlyThatSession) {
     auto a = net.connect_sync(client("correct horse"));
     auto b = net.connect_sync(client("correct horse"));
     ASSERT_TRUE(a.ok() && b.ok());
