@@ -2,6 +2,7 @@
 // writes them, and gathers and sends input.
 #include "client/client.h"
 
+#include <algorithm>
 #include <cmath>
 #include <condition_variable>
 #include <deque>
@@ -10,10 +11,12 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include <spdlog/spdlog.h>
 
 #include "client/contact_sheet.h"
+#include "client/frame_output.h"
 #include "client/game_window.h"
 #include "common/base/timer.h"
 #include "common/film/float_codec.h"
@@ -67,77 +70,12 @@ private:
     std::string reason_;
 };
 
-// A frame ready to show (sRGB bytes) and, for lossless float frames, its linear pixels.
-struct DecodedFrame {
-    int width = 0, height = 0;
-    std::vector<uint8_t> srgb8;
-    std::optional<FloatImage> linear;
-};
-
-// `video`: the H.264 stream's decoder (each picture depends on the ones before).
-Result<DecodedFrame> decode_image(const wire::EncodedFrame& f, H264Decoder& video) {
-    DecodedFrame d{int(f.width), int(f.height), {}, {}};  // sizes checked by wire::decode_frame
-    if (f.codec == wire::FrameCodec::float_zstd) {
-        auto rgb = decompress_floats(f.data, std::size_t(d.width) * d.height * 3);
-        if (!rgb) return rgb.error();
-        d.linear = FloatImage(d.width, d.height);
-        d.linear->rgb = std::move(*rgb);
-        d.srgb8 = tonemap_to_srgb8(*d.linear);
-        return d;
-    }
-    int w = 0, h = 0;
-    if (f.codec == wire::FrameCodec::h264) {
-        auto picture = video.decode(f.data);
-        if (!picture)
-            return make_error(ErrorCode::parse_error, "frame {}: {}", f.frame,
-                              picture.error().message);
-        w = picture->width;
-        h = picture->height;
-        d.srgb8 = std::move(picture->rgb);
-    } else if (f.codec == wire::FrameCodec::jpeg) {
-        auto jpeg = decode_jpeg(f.data);
-        if (!jpeg) return jpeg.error();
-        w = jpeg->width;
-        h = jpeg->height;
-        d.srgb8 = std::move(jpeg->rgb);
-    } else {  // png
-        auto png = decode_rgba8(reinterpret_cast<const unsigned char*>(f.data.data()),
-                                f.data.size(), "frame.png");
-        if (!png) return png.error();
-        w = png->width;
-        h = png->height;
-        d.srgb8.resize(std::size_t(w) * h * 3);
-        for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
-            for (int c = 0; c < 3; ++c)
-                d.srgb8[i * 3 + c] = png->rgba[i * 4 + c];
-    }
-    if (w != d.width || h != d.height)
-        return make_error(ErrorCode::parse_error, "frame {}: image is {}x{}, frame {}x{}", f.frame,
-                          w, h, d.width, d.height);
-    return d;
-}
-
-Status write_frame(const ClientOptions& o, const wire::EncodedFrame& f, const DecodedFrame& d) {
-    if (o.out_dir.empty()) return {};
-    const std::string base = fmt::format("{}/frame_{:06d}", o.out_dir, f.frame);
-    if (d.linear) return write_image(base + ".exr", *d.linear);
-    if (f.codec == wire::FrameCodec::h264) {  // the frame as shown, and the playable stream
-        std::ofstream(o.out_dir + "/stream.h264", std::ios::binary | std::ios::app) << f.data;
-        auto png = encode_png(d.width, d.height, d.srgb8);
-        if (!png) return png.error();
-        std::ofstream(base + ".png", std::ios::binary)
-            .write(reinterpret_cast<const char*>(png->data()), std::streamsize(png->size()));
-        return {};
-    }
-    // Keep the coordinator's bytes.
-    std::ofstream(base + (f.codec == wire::FrameCodec::png ? ".png" : ".jpg"), std::ios::binary)
-        << f.data;
-    return {};
-}
-
 class InputSender {
 public:
-    InputSender(net::Session& session, LatencyStats& stats) : session_(session), stats_(stats) {}
+    InputSender(std::shared_ptr<net::Session> session, LatencyStats& stats)
+        : session_(std::move(session)), stats_(stats) {}
+    // After a reconnection: later inputs go to the new session, their numbers go on.
+    void attach(std::shared_ptr<net::Session> session) { session_ = std::move(session); }
 
     void send(const std::optional<Mat4>& pose, const std::array<float, 5>& move, bool action) {
         const auto now = LatencyStats::Clock::now();
@@ -149,11 +87,11 @@ public:
         if (move != std::array<float, 5>{}) in.move.assign(move.begin(), move.end());
         in.action = action;
         stats_.input_sent(sequence_, now);
-        session_.send(wire::encode_input(in));
+        session_->send(wire::encode_input(in));
     }
 
 private:
-    net::Session& session_;
+    std::shared_ptr<net::Session> session_;
     LatencyStats& stats_;
     uint64_t sequence_ = 0;
 };
@@ -197,16 +135,23 @@ Result<std::map<uint64_t, Mat4>> read_camera_script(const std::string& path) {
 // One run of the client: frames in (shown, written, counted), input out.
 class ClientRun {
 public:
-    ClientRun(const ClientOptions& o, std::map<uint64_t, Mat4> script, net::Session& session,
-              LatencyStats& stats, GameWindow* window)
+    ClientRun(const ClientOptions& o, std::map<uint64_t, Mat4> script,
+              std::shared_ptr<net::Session> session, LatencyStats& stats, GameWindow* window)
         : o_(o),
           script_(std::move(script)),
           stats_(stats),
           window_(window),
-          input_(session, stats),
+          input_(std::move(session), stats),
           sheet_(o.frames > 0 ? (o.frames + 15) / 16 : 1) {
         if (auto first = script_.find(0); first != script_.end())
             input_.send(first->second, {}, false);
+    }
+
+    // A new session after the old one was lost: inputs go there, and an H.264 stream starts
+    // again at the IDR frame the coordinator makes for a joining client.
+    void reconnected(std::shared_ptr<net::Session> session) {
+        input_.attach(std::move(session));
+        video_.reset();
     }
 
     // Shows one received frame; false when the client is done (its frame count reached, or
@@ -296,6 +241,60 @@ private:
     WindowInput pending_;
 };
 
+enum class LinkEnd { done, closed, lost };
+
+// Shows frames until the client is done (frame count, window closed, stop), the coordinator
+// closed the link, or the link was lost: a reset, a TLS stream cut short, or no frame for
+// silence_seconds after frames had been coming (a half-open connection says nothing else).
+LinkEnd play(const ClientOptions& o, FrameQueue& queue, ClientRun& run,
+             const std::atomic<bool>& stop) {
+    auto last_frame = std::chrono::steady_clock::now();
+    const auto silence = std::chrono::duration<double>(o.silence_seconds);
+    while (!stop && !queue.drained()) {
+        if (auto bytes = queue.pop_for(std::chrono::milliseconds(4))) {
+            last_frame = std::chrono::steady_clock::now();
+            auto more = run.on_frame(*bytes);
+            if (!more) {
+                spdlog::error("{}", more.error().message);
+                return LinkEnd::done;
+            }
+            if (!*more) return LinkEnd::done;
+        }
+        if (!run.poll()) return LinkEnd::done;
+        if (run.frames() > 0 && o.silence_seconds > 0 &&
+            std::chrono::steady_clock::now() - last_frame > silence) {
+            queue.close(fmt::format("no frame for {} s", o.silence_seconds));
+            return LinkEnd::lost;
+        }
+    }
+    if (stop) return LinkEnd::done;
+    return queue.reason() == net::kClosedByPeer ? LinkEnd::closed : LinkEnd::lost;
+}
+
+// Connects again, backing off, for up to reconnect_seconds; null when it gave up.
+template <typename Connect>
+std::shared_ptr<net::Session> reconnect(const ClientOptions& o, Connect& connect,
+                                        const std::string& why, const std::atomic<bool>& stop) {
+    if (o.reconnect_seconds <= 0) return nullptr;
+    spdlog::warn("{}; reconnecting", why);
+    const auto give_up = std::chrono::steady_clock::now() +
+                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(o.reconnect_seconds));
+    auto backoff = std::chrono::milliseconds(100);
+    while (!stop && std::chrono::steady_clock::now() < give_up) {
+        auto session = connect();
+        if (session) {
+            spdlog::info("reconnected");
+            return *session;
+        }
+        spdlog::warn("{}; retrying in {} ms", session.error().message, backoff.count());
+        std::this_thread::sleep_for(backoff);
+        backoff = std::min(backoff * 2, std::chrono::milliseconds(2000));
+    }
+    spdlog::error("gave up reconnecting after {} s", o.reconnect_seconds);
+    return nullptr;
+}
+
 Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::map<uint64_t, Mat4> script;
     if (!o.script.empty()) {
@@ -314,7 +313,6 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
         window = std::move(*w);
     }
     net::NetService net;
-    auto queue = std::make_shared<FrameQueue>();
     net::ClientConfig config;
     config.host = o.host;
     config.port = o.port;
@@ -323,18 +321,27 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
     config.hello.role = net::PeerRole::client;
     config.hello.name = o.window ? "window-client" : "headless-client";
     config.hello.codecs = {codec_for(o.format)};
-    config.on_message = [queue](std::string&& m) { queue->push(std::move(m)); };
-    config.on_closed = [queue](const std::string& reason) { queue->close(reason); };
-    auto session = net.connect_sync(config);
+    std::shared_ptr<FrameQueue> queue;
+    // Each connection has a queue of its own: a lost session's late callbacks cannot close
+    // the next one's.
+    const auto connect = [&]() {
+        queue = std::make_shared<FrameQueue>();
+        config.on_message = [q = queue](std::string&& m) { q->push(std::move(m)); };
+        config.on_closed = [q = queue](const std::string& reason) { q->close(reason); };
+        return net.connect_sync(config);
+    };
+    auto session = connect();
     if (!session) return session.error();
-    ClientRun run(o, std::move(script), **session, stats, window.get());
-    while (!stop && !queue->drained()) {
-        if (auto bytes = queue->pop_for(std::chrono::milliseconds(4))) {
-            auto more = run.on_frame(*bytes);
-            if (!more) return more.error();
-            if (!*more) break;
-        }
-        if (!run.poll()) break;
+    ClientRun run(o, std::move(script), *session, stats, window.get());
+    for (;;) {
+        const LinkEnd end = play(o, *queue, run, stop);
+        if (end != LinkEnd::lost) break;
+        const std::string why = queue->reason();
+        (*session)->close(why);
+        auto again = reconnect(o, connect, why, stop);
+        if (!again) break;
+        session = std::move(again);
+        run.reconnected(*session);
     }
     if (run.frames() == 0 && !stop)
         return make_error(ErrorCode::io_error, "no frames: {}", queue->reason());

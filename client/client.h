@@ -20,9 +20,13 @@ struct ClientOptions {
     uint16_t port = 0;
     std::string secret;
     bool insecure_plaintext = false;  // the coordinator link in the clear (benchmarks only)
-    bool window = false;              // SDL2 window with keyboard and mouse; else headless
-    int frames = 0;       // stop after this many frames (0: until the coordinator closes)
-    std::string out_dir;  // empty: do not write frames
+    // A lost link (reset, cut TLS stream, silence) is retried for this long; 0: never. A
+    // coordinator that closes the link cleanly ends the client.
+    double reconnect_seconds = 10.0;
+    double silence_seconds = 10.0;  // no frame for this long after frames came: lost
+    bool window = false;            // SDL2 window with keyboard and mouse; else headless
+    int frames = 0;                 // stop after this many frames (0: until the coordinator closes)
+    std::string out_dir;            // empty: do not write frames
     OutputFormat format = OutputFormat::jpeg;
     std::string script;               // camera script file
     double turn_rate = 0.0;           // headless: a scripted player turning this many rad/s

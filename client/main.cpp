@@ -28,6 +28,14 @@ void add_options(CLI::App& app, CommandLine& c) {
         "--insecure-plaintext", o.insecure_plaintext,
         "Benchmarks only: no TLS on the coordinator link (commits, tiles and frames in the "
         "clear); the other end must say so too");
+    app.add_option("--reconnect-seconds", o.reconnect_seconds,
+                   "Retry a lost link (reset, cut TLS stream, silence) for this long; 0: never")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 3600.0));
+    app.add_option("--silence-seconds", o.silence_seconds,
+                   "No frame for this long after frames came: the link is lost (0: never)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 3600.0));
     app.add_flag("--headless", c.headless,
                  "No window: write frames to --out (default: a window with WASD + mouse look, "
                  "E for action, Esc to quit)");

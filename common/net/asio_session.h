@@ -26,6 +26,8 @@ using Clock = std::chrono::steady_clock;
 
 // How long a closing TLS session waits for the peer's close_notify, which may never come.
 constexpr auto kTlsShutdownTimeout = std::chrono::milliseconds(1000);
+// How long a closing session may take to send what is queued.
+constexpr auto kCloseTimeout = std::chrono::milliseconds(2000);
 
 // An OpenSSL context keyed by the farm secret, shared by the sessions of one listen or dial.
 struct TlsContext {
@@ -76,6 +78,7 @@ public:
           tls_context_(std::move(tls)),
           wake_(socket_.get_executor()),
           deadline_(socket_.get_executor()),
+          close_timer_(socket_.get_executor()),
           max_bytes_(max_bytes),
           peer_(std::move(peer)) {
         wake_.expires_at(Clock::time_point::max());
@@ -83,13 +86,18 @@ public:
     }
 
     void send(std::string envelope) override {
+        unsent_ += envelope.size() + kFrameHeaderBytes;
         asio::post(socket_.get_executor(),
                    [self = shared_from_this(), bytes = frame(envelope)]() mutable {
-                       if (!self->open_ || self->closing_) return;
+                       if (!self->open_ || self->closing_) {
+                           self->unsent_ -= bytes.size();
+                           return;
+                       }
                        self->queue_.push_back(std::move(bytes));
                        self->wake_.cancel_one();
                    });
     }
+    std::size_t unsent_bytes() const override { return unsent_; }
     void reject(ProtocolError code, std::string message) override {
         asio::post(socket_.get_executor(),
                    [self = shared_from_this(), code, message = std::move(message)] {
@@ -103,6 +111,7 @@ public:
             self->closing_ = true;  // the writer sends what is queued, then closes
             self->close_reason_ = reason;
             self->wake_.cancel_one();
+            self->bound_close();
         });
     }
     bool open() const override { return open_; }
@@ -165,13 +174,24 @@ public:
         asio::co_spawn(socket_.get_executor(), writer(shared_from_this()), asio::detached);
     }
 
+    // A peer that reads nothing (a half-open connection) can keep the writer from ever
+    // draining the queue: closing takes at most kCloseTimeout either way.
+    void bound_close() {
+        close_timer_.expires_after(kCloseTimeout);
+        close_timer_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            if (!ec) self->close_now(self->close_reason_ + " (the peer stopped reading)");
+        });
+    }
+
     void reject_now(ProtocolError code, const std::string& message) {
         if (!open_ || closing_) return;
         spdlog::warn("{} {}: {}; disconnecting", role_name(peer_.role), peer_.address, message);
         queue_.push_back(frame(error_envelope(code, message)));
+        unsent_ += queue_.back().size();
         closing_ = true;
         close_reason_ = message;
         wake_.cancel_one();
+        bound_close();
     }
 
     void close_now(const std::string& reason) {
@@ -180,6 +200,7 @@ public:
         open_ = false;
         wake_.cancel();
         deadline_.cancel();
+        close_timer_.cancel();
         if (tls_ready_)
             shutdown_tls();
         else
@@ -247,6 +268,13 @@ private:
             }
         } catch (const Rejection& r) {
             self->reject_now(r.code, r.message);
+        } catch (const asio::system_error& e) {
+            // A clean end (FIN, or TLS close_notify) is the peer closing; anything else (a
+            // reset, a TLS stream cut short) is a lost connection, which clients retry.
+            self->close_now(self->closing_ ? self->close_reason_
+                            : e.code() == asio::error::eof
+                                ? std::string(kClosedByPeer)
+                                : "connection lost: " + e.code().message());
         } catch (const std::exception& e) {
             self->close_now(self->closing_ ? self->close_reason_
                                            : std::string("connection lost: ") + e.what());
@@ -265,6 +293,7 @@ private:
                 const std::string bytes = std::move(self->queue_.front());
                 self->queue_.pop_front();
                 co_await self->write_all(bytes);
+                self->unsent_ -= bytes.size();
             }
         } catch (const std::exception& e) {
             self->close_now(std::string("write failed: ") + e.what());
@@ -278,10 +307,12 @@ private:
     std::optional<asio::ssl::stream<tcp::socket&>> tls_;  // over socket_, unless plaintext
     asio::steady_timer wake_;                             // wakes the writer when the queue fills
     asio::steady_timer deadline_;                         // bounds each read
+    asio::steady_timer close_timer_;                      // bounds a close
     uint32_t max_bytes_;
     PeerInfo peer_;
     std::deque<std::string> queue_;
     std::atomic<bool> open_{false};
+    std::atomic<std::size_t> unsent_{0};  // sent and not yet written (queued or in flight)
     bool closing_ = false, closed_ = false, timed_out_ = false, tls_ready_ = false;
     std::string close_reason_;
 };

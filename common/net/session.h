@@ -44,6 +44,10 @@ enum class ProtocolError : int {
     timeout = 7
 };
 
+// on_closed's reason when the peer ended the connection cleanly (FIN, or TLS close_notify),
+// as opposed to a lost connection ("connection lost: ...") or a local close.
+inline constexpr char kClosedByPeer[] = "closed by the peer";
+
 class Session {
 public:
     virtual ~Session() = default;
@@ -55,6 +59,9 @@ public:
     virtual void close(std::string reason) = 0;
     virtual bool open() const = 0;
     virtual const PeerInfo& peer() const = 0;
+    // Bytes handed to send() and not yet written to the socket: a peer that reads slower
+    // than it is sent to (or not at all) makes this grow. Thread-safe.
+    virtual std::size_t unsent_bytes() const { return 0; }
 
     // Called on the network thread. Servers set them in on_session; clients pass them in
     // ClientConfig so that nothing the server sends right after the handshake is lost.

@@ -47,14 +47,14 @@ void ClientHub::add(std::shared_ptr<net::Session> s) {
     std::lock_guard lock(mutex_);
     if (!accepting_) return s->close("coordinator finishing");
     const FrameCodec codec = choose_codec(s->peer().codecs);
-    clients_[id] = Client{s, codec, codec == FrameCodec::h264, true};
+    clients_[id] = Client{s, codec, codec == FrameCodec::h264, true, std::nullopt};
     count_clients_locked();
 }
 
 void ClientHub::browser_joined(uint64_t id, bool h264) {
     std::lock_guard lock(mutex_);
     if (!accepting_) return;
-    clients_[id | kBrowserBit] = Client{nullptr, FrameCodec::jpeg, h264, true};
+    clients_[id | kBrowserBit] = Client{nullptr, FrameCodec::jpeg, h264, true, std::nullopt};
     count_clients_locked();
 }
 
@@ -187,14 +187,17 @@ void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
             key = key || (c.h264 && c.needs_key);
         }
     }
-    const auto echo = [&](uint64_t id) {
-        const auto it = applied.newest.find(id);
-        return it == applied.newest.end() ? uint64_t(0) : it->second;
+    const auto echo = [&](uint64_t id) {  // the newest of its inputs the frame applied
+        return applied.newest.count(id) != 0 ? applied.newest.at(id) : uint64_t(0);
     };
     // Outside the lock: encoding takes milliseconds.
     const std::optional<H264Picture> video = h264 ? encode_h264(image, key) : std::nullopt;
     std::map<FrameCodec, std::string> pictures;
     std::size_t bytes = 0;
+    std::vector<uint64_t> sent, backed_up;
+    ShownFrame sized = shown;
+    sized.width = image.width;
+    sized.height = image.height;
     for (auto& [id, c] : targets) {
         const bool as_video = c.h264 && video;
         if (c.session && c.h264 && !video) continue;  // a native H.264 client takes nothing else
@@ -208,28 +211,63 @@ void ClientHub::send(const FloatImage& image, const ShownFrame& shown) {
         }
         if (c.session) {
             if (as_video && c.needs_key && !video->key) continue;
-            const std::string message = wire::encode_frame(
-                {shown.frame, uint32_t(image.width), uint32_t(image.height), c.codec,
-                 as_video ? video->bytes : pictures[c.codec], echo(id)});
-            bytes += message.size();
-            c.session->send(message);
+            const bool taken =
+                send_native(c,
+                            wire::encode_frame(
+                                {shown.frame, uint32_t(image.width), uint32_t(image.height),
+                                 c.codec, as_video ? video->bytes : pictures[c.codec], echo(id)}),
+                            bytes);
+            (taken ? sent : backed_up).push_back(id);
         } else if (web_) {
-            ShownFrame sized = shown;
-            sized.width = image.width;
-            sized.height = image.height;
             send_to_browser(id, c, pictures[c.codec], video, sized, echo(id), bytes);
+            sent.push_back(id);  // the web port drops and asks for keys on its own
         }
     }
     if (video && video->key) {  // those that were sent it (not those that joined since)
         std::lock_guard lock(mutex_);
-        for (const auto& [id, sent] : targets)
-            if (const auto it = clients_.find(id); sent.h264 && it != clients_.end())
+        for (const uint64_t id : sent)
+            if (const auto it = clients_.find(id); it != clients_.end() && it->second.h264)
                 it->second.needs_key = false;
     }
+    note_backlogs(sent, backed_up);
     metrics_.add_client_bytes(bytes);
     const auto now = Clock::now();
     for (const Clock::time_point at : applied.received)
         metrics_.observe_input_latency(std::chrono::duration<double>(now - at).count());
+}
+
+// A client that has not taken its last frames skips this one: a queue is latency, and one
+// that never reads (a half-open link) must not hold frames forever.
+bool ClientHub::send_native(const Client& c, std::string message, std::size_t& bytes) {
+    if (c.session->unsent_bytes() > std::max(kMinUnsentLimit, 2 * message.size())) return false;
+    bytes += message.size();
+    c.session->send(std::move(message));
+    return true;
+}
+
+// A native client that skipped a frame needs a key picture next (H.264); one that has not
+// caught up for kBackedUpLimit is closed (it reconnects if it is alive).
+void ClientHub::note_backlogs(const std::vector<uint64_t>& sent,
+                              const std::vector<uint64_t>& backed_up) {
+    std::lock_guard lock(mutex_);
+    for (const uint64_t id : sent)
+        if (const auto it = clients_.find(id); it != clients_.end())
+            it->second.backed_up_since.reset();
+    const auto now = Clock::now();
+    for (const uint64_t id : backed_up) {
+        const auto it = clients_.find(id);
+        if (it == clients_.end()) continue;
+        Client& c = it->second;
+        c.needs_key = c.h264;
+        if (!c.backed_up_since) c.backed_up_since = now;
+        if (now - *c.backed_up_since < kBackedUpLimit) continue;
+        spdlog::warn("client \"{}\" took no frame for {} s; disconnecting it",
+                     c.session->peer().name,
+                     std::chrono::duration_cast<std::chrono::seconds>(kBackedUpLimit).count());
+        c.session->close("not reading its frames");
+        clients_.erase(it);
+        count_clients_locked();
+    }
 }
 
 std::vector<std::shared_ptr<net::Session>> ClientHub::stop_accepting() {

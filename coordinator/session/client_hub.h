@@ -61,11 +61,17 @@ public:
 private:
     // Browsers and native sessions in one map: a browser's key has the top bit set.
     static constexpr uint64_t kBrowserBit = uint64_t(1) << 63;
+    // A native client with more than max(this, two of this frame's messages) unsent skips the
+    // frame; one that skips frames for kBackedUpLimit is disconnected.
+    static constexpr std::size_t kMinUnsentLimit = std::size_t(1) << 20;
+    static constexpr std::chrono::seconds kBackedUpLimit{5};
     struct Client {
         std::shared_ptr<net::Session> session;  // none: a browser
         FrameCodec codec = FrameCodec::jpeg;
         bool h264 = false;      // a browser that decodes H.264
         bool needs_key = true;  // H.264: the next picture it gets must be an IDR frame
+        // Native: since when it has had too much unsent to be sent another frame.
+        std::optional<Clock::time_point> backed_up_since;
     };
     struct Pending {
         uint64_t client;
@@ -84,6 +90,8 @@ private:
     // The browsers' H.264 stream (one encoder, every H.264 browser sees the same pictures);
     // none when it cannot be encoded (those browsers get JPEG).
     std::optional<H264Picture> encode_h264(const FloatImage& image, bool key);
+    bool send_native(const Client& c, std::string message, std::size_t& bytes);
+    void note_backlogs(const std::vector<uint64_t>& sent, const std::vector<uint64_t>& backed_up);
     void send_to_browser(uint64_t key, const Client& c, const std::string& jpeg,
                          const std::optional<H264Picture>& video, const ShownFrame& shown,
                          uint64_t echo, std::size_t& bytes);

@@ -238,6 +238,7 @@ TracerPool::Wait TracerPool::wait_for_frame(const std::atomic<bool>& stop) {
         }
         cv_.wait_until(lock, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
         if (Clock::now() >= deadline && !assembler_->complete()) {
+            drop_silent();
             const auto missing = assembler_->missing({0, work_.height});
             spdlog::warn("frame {}: {} row range(s) missed the {} ms deadline; re-issuing",
                          work_.frame, missing.size(), deadline_.count());
@@ -246,6 +247,25 @@ TracerPool::Wait TracerPool::wait_for_frame(const std::atomic<bool>& stop) {
         }
     }
     return Wait::complete;
+}
+
+// A tracer that owes rows and has sent nothing for a whole deadline (no tile since its last
+// assignment) is taken to be gone, whatever its socket says: a half-open connection or a
+// stalled link looks alive forever and would cost every later frame a deadline. It is closed
+// (it reconnects if it is alive) and its rows go to the others.
+void TracerPool::drop_silent() {
+    const Clock::time_point now = now_();
+    for (auto it = tracers_.begin(); it != tracers_.end();) {
+        Tracer& t = it->second;
+        if (idle(t) || ms_between(t.news_at, now) < double(deadline_.count())) {
+            ++it;
+            continue;
+        }
+        spdlog::warn("frame {}: tracer \"{}\" sent nothing for {} ms; disconnecting it",
+                     work_.frame, t.name, deadline_.count());
+        t.session->close("silent past the deadline");
+        it = tracers_.erase(it);  // its rows are among the missing ones re-issued next
+    }
 }
 
 FrameOutcome TracerPool::finish() {

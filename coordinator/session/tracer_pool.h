@@ -115,6 +115,7 @@ private:
     void assign(uint64_t id, Tracer& t, const RowRange& r);
     void reissue(const std::vector<RowRange>& ranges, bool idle_only);
     void steal_for(uint64_t id);
+    void drop_silent();
     bool idle(const Tracer& t) const;
     std::vector<RowRange> missing_of(const Tracer& t) const;
 

@@ -176,6 +176,13 @@ TEST(Tls, CloseDoesNotWaitForAnAbsentCloseNotify) {
     EXPECT_TRUE(peer.closed_by_peer(/*answer=*/false));
 }
 
+TEST(Tls, TheKeyExchangeIsEphemeralOnTopOfThePsk) {  // forward secrecy: psk_dhe_ke
+    Server server(true);
+    RawPeer peer(server.port, kSecret);
+    ASSERT_TRUE(peer.connected());
+    EXPECT_NE(peer.key_exchange_group(), 0) << "a PSK-only handshake: no forward secrecy";
+}
+
 TEST(Tls, ThePskDependsOnTheSecretAndIsNotTheSecret) {
     EXPECT_EQ(tls_psk("a").size(), 32u);
     EXPECT_EQ(tls_psk("a"), tls_psk("a"));

@@ -54,10 +54,10 @@ void Farm::start(std::vector<std::string> extra, int port) {
     client_port = std::stoi(line->substr(line->find("client_port=") + 12));
 }
 
-Process& Farm::add_tracer(const std::string& name, std::vector<std::string> extra) {
+Process& Farm::add_tracer(const std::string& name, std::vector<std::string> extra, int port) {
     std::vector<std::string> args{kTracer,
                                   "--coordinator",
-                                  "127.0.0.1:" + std::to_string(tracer_port),
+                                  "127.0.0.1:" + std::to_string(port != 0 ? port : tracer_port),
                                   "--name",
                                   name,
                                   "--threads",

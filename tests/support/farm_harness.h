@@ -31,7 +31,8 @@ struct Farm {
     // Starts a 64x50 coordinator (`spp` samples per pixel) on builtin:default with `extra`
     // arguments.
     void start(std::vector<std::string> extra, int port = 0);
-    Process& add_tracer(const std::string& name, std::vector<std::string> extra = {});
+    // port: where the tracer connects (0: tracer_port; a fault proxy's port in front of it).
+    Process& add_tracer(const std::string& name, std::vector<std::string> extra = {}, int port = 0);
     int finish(std::chrono::milliseconds timeout = std::chrono::seconds(60));
     std::string reference(int frame);  // pathfarm-render's frame, same size and spp
     std::string frame(int f) const;    // the coordinator's dumped frame

@@ -3,6 +3,7 @@
 // leaving through the handlers the code under test installed.
 #pragma once
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -39,6 +40,10 @@ public:
         return open_;
     }
     const net::PeerInfo& peer() const override { return peer_; }
+    std::size_t unsent_bytes() const override { return unsent; }
+    void set_codecs(std::vector<int> codecs) { peer_.codecs = std::move(codecs); }
+
+    std::atomic<std::size_t> unsent{0};  // what unsent_bytes() reports (a peer not reading)
 
     // The peer sends `envelope` / the peer goes away (as the network thread reports them).
     void deliver(const std::string& envelope) { on_message(std::string(envelope)); }

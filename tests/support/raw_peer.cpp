@@ -33,6 +33,10 @@ RawPeer::~RawPeer() {
     ::close(fd_);
 }
 
+int RawPeer::key_exchange_group() const {
+    return ssl_ != nullptr ? SSL_get_negotiated_group(ssl_) : 0;
+}
+
 void RawPeer::send_bytes(const std::string& b) {
     if (ssl_ != nullptr)
         (void)SSL_write(ssl_, b.data(), int(b.size()));

@@ -21,6 +21,8 @@ public:
     RawPeer& operator=(const RawPeer&) = delete;
 
     bool connected() const { return connected_; }
+    // TLS: the key exchange group's OpenSSL NID (0: none, a PSK-only handshake).
+    int key_exchange_group() const;
     void send_bytes(const std::string& bytes);
     // Reads one framed message body; nullopt on close or timeout (3 s).
     std::optional<std::string> receive_frame();
