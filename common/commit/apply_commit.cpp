@@ -89,34 +89,39 @@ Status check_op(ShapeView& shapes, const CommitOp& op) {
 }
 
 void apply_op(SceneState& s, const CommitOp& op) {
-    std::visit(
-        Overloaded{
-            [&](const SetInstance& o) { s.instances[o.id] = o.instance; },
-            [&](const RemoveInstance& o) { s.instances.erase(o.id); },
-            [&](const AddMesh& o) { s.meshes[o.id] = o.mesh; },
-            [&](const RemoveMesh& o) { s.meshes.erase(o.id); },
-            [&](const UpdateVertexRange& o) {
-                Mesh& m = s.meshes.at(o.mesh);
-                std::copy(o.positions.begin(), o.positions.end(), m.positions.begin() + o.first);
-                std::copy(o.normals.begin(), o.normals.end(), m.normals.begin() + o.first);
-                std::copy(o.tangents.begin(), o.tangents.end(), m.tangents.begin() + o.first);
-            },
-            [&](const SetMaterial& o) { s.materials[o.id] = o.material; },
-            [&](const RemoveMaterial& o) { s.materials.erase(o.id); },
-            [&](const AddImage& o) { s.images[o.id] = o.image; },
-            [&](const RemoveImage& o) { s.images.erase(o.id); },
-            [&](const SetTexture& o) { s.textures[o.id] = o.texture; },
-            [&](const RemoveTexture& o) { s.textures.erase(o.id); },
-            [&](const SetCamera& o) {
-                s.cameras[o.id] = o.camera;
-                if (o.active) s.active_camera = o.id;
-            },
-            [&](const SetEnvironment& o) { s.environment = o.environment; },
-            [&](const SetSettings& o) { s.settings = o.settings; },
-            [](const SetMeshBvh&) {},  // derived data: apply_bvh_op
-            [](const SetTopLevelBvh&) {},
-        },
-        op);
+    std::visit(Overloaded{
+                   [&](const SetInstance& o) { s.instances[o.id] = o.instance; },
+                   [&](const RemoveInstance& o) { s.instances.erase(o.id); },
+                   [&](const AddMesh& o) { s.meshes[o.id] = o.mesh; },
+                   [&](const RemoveMesh& o) { s.meshes.erase(o.id); },
+                   [&](const UpdateVertexRange& o) {
+                       Mesh& m = s.meshes.at(o.mesh);
+                       // Only what the update carries: a mesh without normals or tangents has no
+                       // storage to offset into (begin() + first on an empty vector is undefined).
+                       const auto put = [&](const auto& from, auto& to) {
+                           if (!from.empty())
+                               std::copy(from.begin(), from.end(), to.begin() + o.first);
+                       };
+                       put(o.positions, m.positions);
+                       put(o.normals, m.normals);
+                       put(o.tangents, m.tangents);
+                   },
+                   [&](const SetMaterial& o) { s.materials[o.id] = o.material; },
+                   [&](const RemoveMaterial& o) { s.materials.erase(o.id); },
+                   [&](const AddImage& o) { s.images[o.id] = o.image; },
+                   [&](const RemoveImage& o) { s.images.erase(o.id); },
+                   [&](const SetTexture& o) { s.textures[o.id] = o.texture; },
+                   [&](const RemoveTexture& o) { s.textures.erase(o.id); },
+                   [&](const SetCamera& o) {
+                       s.cameras[o.id] = o.camera;
+                       if (o.active) s.active_camera = o.id;
+                   },
+                   [&](const SetEnvironment& o) { s.environment = o.environment; },
+                   [&](const SetSettings& o) { s.settings = o.settings; },
+                   [](const SetMeshBvh&) {},  // derived data: apply_bvh_op
+                   [](const SetTopLevelBvh&) {},
+               },
+               op);
 }
 
 void apply_bvh_op(DerivedBvh& bvh, const CommitOp& op) {

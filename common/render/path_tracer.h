@@ -101,7 +101,7 @@ private:
     struct ShadingPoint {
         const SurfacePoint& sp;
         const Bsdf& bsdf;
-        const class Frame& frame;
+        const struct Frame& frame;
         Vec3 shading_ng, wo_local;
         Rgb sigma_a;
     };

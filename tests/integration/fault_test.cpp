@@ -10,17 +10,17 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/farm_harness.h"
-#include "tests/support/fault_proxy.h"
 #include "tests/support/process.h"
+#include "tools/fault-proxy/fault_proxy.h"
 
 namespace pathfarm {
 namespace {
 
 using namespace std::chrono_literals;
 using test::Farm;
-using test::FaultProxy;
 using test::kClient;
 using test::Process;
+using tools::FaultProxy;
 using Direction = FaultProxy::Direction;
 
 // Every frame was shown, and each equals pathfarm-render's.

@@ -8,6 +8,8 @@
 namespace pathfarm {
 namespace {
 
+constexpr std::size_t kMaxAccessorElements = std::size_t(1) << 26;
+
 double read_component(const unsigned char* p, int component_type, bool normalized) {
     switch (component_type) {
         case TINYGLTF_COMPONENT_TYPE_FLOAT: {
@@ -53,12 +55,31 @@ Result<const unsigned char*> view_data(const tinygltf::Model& model, int view, s
         return make_error(ErrorCode::parse_error, "bufferView {}: buffer {} out of range", view,
                           bv.buffer);
     const auto& data = model.buffers[bv.buffer].data;
-    const std::size_t need = count == 0 ? 0 : offset + stride * (count - 1) + elem_bytes;
-    if (need > bv.byteLength || bv.byteOffset + bv.byteLength > data.size())
+    // Every size comes from the file: compared without sums or products that could wrap.
+    const bool view_fits =
+        bv.byteOffset <= data.size() && bv.byteLength <= data.size() - bv.byteOffset;
+    const bool fits =
+        view_fits &&
+        (count == 0 ||
+         (offset <= bv.byteLength && elem_bytes <= bv.byteLength - offset &&
+          (count - 1) <= (bv.byteLength - offset - elem_bytes) / std::max<std::size_t>(stride, 1)));
+    if (!fits)
         return make_error(ErrorCode::parse_error,
                           "accessor {}: data runs past the end of its buffer (truncated file?)",
                           accessor);
     return data.data() + bv.byteOffset + offset;
+}
+
+// Before anything is allocated for it: the accessor's bufferView exists, and its count is
+// one a file could mean (a count of billions without data would allocate it all).
+Status check_count(const tinygltf::Model& model, const tinygltf::Accessor& acc, int index) {
+    if (acc.bufferView >= int(model.bufferViews.size()))
+        return make_error(ErrorCode::parse_error, "accessor {}: bufferView {} out of range", index,
+                          acc.bufferView);
+    if (acc.count > kMaxAccessorElements)
+        return make_error(ErrorCode::parse_error, "accessor {}: {} elements (at most {})", index,
+                          acc.count, kMaxAccessorElements);
+    return {};
 }
 
 }  // namespace
@@ -74,6 +95,7 @@ Status read_accessor_floats(const tinygltf::Model& model, int index, std::vector
         return make_error(ErrorCode::parse_error, "accessor {}: invalid type or componentType",
                           index);
     const std::size_t elem_bytes = std::size_t(components) * comp_bytes;
+    if (Status s = check_count(model, acc, index); !s) return s;
     out.assign(acc.count * components, 0.0f);
     if (acc.bufferView >= 0) {
         const int stride = acc.ByteStride(model.bufferViews[acc.bufferView]);
@@ -89,6 +111,8 @@ Status read_accessor_floats(const tinygltf::Model& model, int index, std::vector
     }
     if (acc.sparse.isSparse) {
         const auto& sp = acc.sparse;
+        if (sp.count < 0)
+            return make_error(ErrorCode::parse_error, "accessor {}: negative sparse count", index);
         const int idx_bytes = tinygltf::GetComponentSizeInBytes(uint32_t(sp.indices.componentType));
         auto idx = view_data(model, sp.indices.bufferView, sp.indices.byteOffset, sp.count,
                              idx_bytes, idx_bytes, index);
@@ -121,7 +145,11 @@ Status read_accessor_uints(const tinygltf::Model& model, int index, std::vector<
                           index);
     const int comp_bytes = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
     const int components = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
-    out.assign(acc.count * std::max(components, 1), 0u);
+    if (comp_bytes <= 0 || components <= 0)
+        return make_error(ErrorCode::parse_error, "accessor {}: invalid type or componentType",
+                          index);
+    if (Status s = check_count(model, acc, index); !s) return s;
+    out.assign(acc.count * components, 0u);
     if (acc.bufferView < 0) return {};
     const int stride = acc.ByteStride(model.bufferViews[acc.bufferView]);
     if (stride <= 0)

@@ -4,6 +4,7 @@
 // other property or element is skipped by type.
 #include <bit>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -47,6 +48,7 @@ private:
     Status parse_header();
     bool read_value(const std::string& type, double& out);
     Status read_element(const PlyElement& e, Mesh& mesh);
+    static Status add_face(const std::vector<double>& values, Mesh& mesh);
     Error error(const std::string& what) const {
         return make_error(ErrorCode::parse_error, "{}: {}", path_, what);
     }
@@ -81,8 +83,10 @@ Status PlyReader::parse_header() {
                 return error("unknown format '" + f + "'");
         } else if (word == "element") {
             PlyElement e;
-            ls >> e.name >> e.count;
-            if (ls.fail()) return error("malformed element line '" + line + "'");
+            long long count = -1;  // ">> size_t" would take "-1" as 2^64 - 1
+            ls >> e.name >> count;
+            if (ls.fail() || count < 0) return error("malformed element line '" + line + "'");
+            e.count = std::size_t(count);
             elements_.push_back(std::move(e));
         } else if (word == "property") {
             if (elements_.empty()) return error("property before any element");
@@ -160,6 +164,8 @@ Status PlyReader::read_element(const PlyElement& e, Mesh& mesh) {
     const bool is_vertex = e.name == "vertex";
     const bool is_face = e.name == "face";
     std::vector<double> values;
+    if (e.properties.empty() && e.count > 0)  // nothing to read: its count could be anything
+        return error(fmt::format("element '{}' has no properties", e.name));
     for (std::size_t i = 0; i < e.count; ++i) {
         Vec3 p(0.0f), n(0.0f);
         bool has_n = false;
@@ -186,7 +192,9 @@ Status PlyReader::read_element(const PlyElement& e, Mesh& mesh) {
                 continue;
             }
             double count = 0.0;
-            if (!read_value(prop.count_type, count) || count < 0.0 || count > 1e6)
+            // Every value takes a byte at least: a list longer than what is left is not one.
+            if (!read_value(prop.count_type, count) || count < 0.0 || count > 1e6 ||
+                count > double(data_.size() - pos_))
                 return error(
                     fmt::format("element '{}' {}: bad list length (truncated file?)", e.name, i));
             values.resize(std::size_t(count));
@@ -196,16 +204,26 @@ Status PlyReader::read_element(const PlyElement& e, Mesh& mesh) {
                         "element '{}' {} of {}: unexpected end of data (truncated file?)", e.name,
                         i, e.count));
             if (is_face && (prop.name == "vertex_indices" || prop.name == "vertex_index"))
-                for (std::size_t k = 2; k < values.size(); ++k)  // fan-triangulate polygons
-                    mesh.indices.insert(
-                        mesh.indices.end(),
-                        {uint32_t(values[0]), uint32_t(values[k - 1]), uint32_t(values[k])});
+                if (Status st = add_face(values, mesh); !st)
+                    return error(fmt::format("element '{}' {}: {}", e.name, i, st.error().message));
         }
         if (is_vertex) {
             mesh.positions.push_back(p);
             if (has_n) mesh.normals.push_back(n);
         }
     }
+    return {};
+}
+
+// Fan-triangulates one polygon. Any double may come from the file: only whole numbers in
+// uint32 range are indices (out-of-range ones are left to validation, which names them).
+Status PlyReader::add_face(const std::vector<double>& values, Mesh& mesh) {
+    for (const double x : values)
+        if (!(x >= 0.0 && x <= 4294967295.0) || x != std::floor(x))
+            return make_error(ErrorCode::parse_error, "vertex index {} is not one", x);
+    for (std::size_t k = 2; k < values.size(); ++k)
+        mesh.indices.insert(mesh.indices.end(),
+                            {uint32_t(values[0]), uint32_t(values[k - 1]), uint32_t(values[k])});
     return {};
 }
 

@@ -1,4 +1,4 @@
-#include "tests/support/fault_proxy.h"
+#include "tools/fault-proxy/fault_proxy.h"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -11,7 +11,7 @@
 #include <deque>
 #include <string>
 
-namespace pathfarm::test {
+namespace pathfarm::tools {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -50,11 +50,11 @@ struct FaultProxy::Link {
     std::thread thread;
 };
 
-FaultProxy::FaultProxy(uint16_t target_port) : target_port_(target_port) {
+FaultProxy::FaultProxy(uint16_t target_port, uint16_t listen_port) : target_port_(target_port) {
     listen_fd_ = socket(AF_INET, SOCK_STREAM, 0);
     int one = 1;
     setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
-    sockaddr_in addr = loopback(0);
+    sockaddr_in addr = loopback(listen_port);
     socklen_t len = sizeof(addr);
     if (bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0 ||
         listen(listen_fd_, 16) != 0 ||
@@ -172,4 +172,4 @@ void FaultProxy::pump(Link& link) {
     link.fd[0] = link.fd[1] = -1;
 }
 
-}  // namespace pathfarm::test
+}  // namespace pathfarm::tools

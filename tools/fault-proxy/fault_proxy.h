@@ -1,4 +1,5 @@
-// A TCP fault proxy for integration tests (this kernel has no sch_netem): it relays each
+// A TCP fault proxy for integration tests and the soak benchmark (this kernel has no
+// sch_netem; the command-line form is pathfarm-fault-proxy): it relays each
 // connection accepted on its own port to a target port on loopback and injects faults on
 // request: added latency, a bandwidth cap, a stall of all traffic, a reset in the middle of a
 // message (after a number of bytes, the connection is cut with RST both ways), and a
@@ -13,13 +14,14 @@
 #include <mutex>
 #include <thread>
 
-namespace pathfarm::test {
+namespace pathfarm::tools {
 
 class FaultProxy {
 public:
     enum class Direction { to_target, from_target };
 
-    explicit FaultProxy(uint16_t target_port);
+    // listen_port 0: an ephemeral port (port() tells which).
+    explicit FaultProxy(uint16_t target_port, uint16_t listen_port = 0);
     ~FaultProxy();
     FaultProxy(const FaultProxy&) = delete;
     FaultProxy& operator=(const FaultProxy&) = delete;
@@ -61,4 +63,4 @@ private:
     std::thread acceptor_;
 };
 
-}  // namespace pathfarm::test
+}  // namespace pathfarm::tools
