@@ -99,9 +99,13 @@ int farm(pathfarm::SceneModel scene, const Command& c, pathfarm::coord::FarmOpti
                          : pathfarm::coord::read_token_file(c.http_token_file);
         if (!token) return fail(token.error());
         f.http_token = *token;
-    } else if (!c.http_token_file.empty()) {
-        return fail({pathfarm::ErrorCode::invalid_argument, "--http-token-file needs --http-port"});
+    } else if (!c.http_token_file.empty() || !f.https_cert.empty() || !f.https_key.empty()) {
+        return fail({pathfarm::ErrorCode::invalid_argument,
+                     "--http-token-file, --https-cert and --https-key need --http-port"});
     }
+    if (f.https_cert.empty() != f.https_key.empty())
+        return fail(
+            {pathfarm::ErrorCode::invalid_argument, "--https-cert and --https-key go together"});
     const std::string& clip_name = c.clip_name;
     auto clip = clip_index(scene, clip_name);
     if (!clip) return fail(clip.error());
@@ -173,6 +177,9 @@ void add_farm_options(CLI::App& app, Command& c) {
                        "its URL with the access token is printed at start (default: off)");
     app.add_option("--http-token-file", c.http_token_file,
                    "File holding the HTTP port's access token (default: a random one per run)");
+    app.add_option("--https-cert", c.f.https_cert,
+                   "PEM certificate chain: the HTTP port serves HTTPS and WSS (with --https-key)");
+    app.add_option("--https-key", c.f.https_key, "PEM private key of --https-cert");
 }
 
 void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md

@@ -13,7 +13,7 @@ PACKAGES=(
   gnuplot-nox libturbojpeg0-dev libsdl2-dev xvfb xauth xdotool
   libwebsocketpp-dev python3-prometheus-client python3-websocket chromium
   libavcodec-dev libavutil-dev libswscale-dev
-  clang libclang-rt-14-dev bc python3-yaml
+  clang libclang-rt-14-dev bc python3-yaml openssl
 )
 
 missing=()

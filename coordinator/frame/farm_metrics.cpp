@@ -68,14 +68,15 @@ void FarmMetrics::observe_frame(const FrameSample& f) {
     tile_bytes_ += f.tile_bytes;
     if (!f.rendered) return;
     frame_time_.observe(f.frame_ms / 1000.0);
-    std::map<std::string, PerTracer> now;
+    // A tracer that rendered nothing in this frame (the others took its rows) is idle in it,
+    // and its row counter goes on: a counter never goes back.
+    for (auto& [name, p] : per_tracer_)
+        p.busy_fraction = 0.0;
     for (const TracerSample& t : f.per_tracer) {
-        PerTracer& p = now[t.name];
+        PerTracer& p = per_tracer_[t.name];
         p.busy_fraction = t.busy_fraction;
-        const auto before = per_tracer_.find(t.name);
-        p.rows = (before == per_tracer_.end() ? 0 : before->second.rows) + uint64_t(t.rows);
+        p.rows += uint64_t(t.rows);
     }
-    per_tracer_ = std::move(now);
 }
 
 void FarmMetrics::observe_input_latency(double seconds) {
@@ -107,7 +108,7 @@ std::string FarmMetrics::text() const {
         out += fmt::format("pathfarm_tracer_busy_ratio{{tracer=\"{}\"}} {}\n", escape_label(name),
                            t.busy_fraction);
     header(out, "pathfarm_tracer_rows_total", "counter",
-           "Rows each connected tracer delivered since it joined.");
+           "Rows each tracer (by name) delivered since the coordinator started.");
     for (const auto& [name, t] : per_tracer_)
         out += fmt::format("pathfarm_tracer_rows_total{{tracer=\"{}\"}} {}\n", escape_label(name),
                            t.rows);

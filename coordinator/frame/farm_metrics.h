@@ -60,7 +60,7 @@ private:
         double busy_fraction = 0.0;
         uint64_t rows = 0;
     };
-    std::map<std::string, PerTracer> per_tracer_;  // tracers seen in the last frame
+    std::map<std::string, PerTracer> per_tracer_;  // every tracer name seen
 };
 
 // A label value escaped for the text format (backslash, double quote, newline).

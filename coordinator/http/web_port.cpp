@@ -13,7 +13,8 @@ namespace {
 constexpr std::size_t kMaxUnsentBytes = 256 * 1024;
 }  // namespace
 
-WebPort::WebPort(std::string token, const FarmMetrics& metrics, BrowserEvents events)
+WebPort::WebPort(std::string token, const FarmMetrics& metrics, BrowserEvents events,
+                 std::optional<TlsFiles> tls)
     : token_(std::move(token)),
       events_(std::move(events)),
       routes_(token_, [&metrics] { return metrics.text(); }) {
@@ -31,7 +32,8 @@ WebPort::WebPort(std::string token, const FarmMetrics& metrics, BrowserEvents ev
         events_.left(id);
     };
     h.on_message = [this](uint64_t id, const std::string& bytes) { on_message(id, bytes); };
-    server_ = std::make_unique<WebServer>(std::move(h));
+    https_ = tls.has_value();
+    server_ = std::make_unique<WebServer>(std::move(h), std::move(tls));
 }
 
 WebPort::~WebPort() { stop(); }
@@ -45,7 +47,7 @@ Result<uint16_t> WebPort::start(const std::string& bind_address, uint16_t port) 
 }
 
 std::string WebPort::url(const std::string& host) const {
-    return fmt::format("http://{}:{}/?token={}", host, port_, token_);
+    return fmt::format("{}://{}:{}/?token={}", https_ ? "https" : "http", host, port_, token_);
 }
 
 void WebPort::send(uint64_t browser, std::shared_ptr<const std::string> message, MessageKind kind) {

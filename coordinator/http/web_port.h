@@ -6,6 +6,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "common/base/result.h"
@@ -28,7 +29,9 @@ struct BrowserEvents {  // called on the HTTP thread
 
 class WebPort {
 public:
-    WebPort(std::string token, const FarmMetrics& metrics, BrowserEvents events);
+    // tls: HTTPS and WSS with the operator's certificate (--https-cert, --https-key).
+    WebPort(std::string token, const FarmMetrics& metrics, BrowserEvents events,
+            std::optional<TlsFiles> tls = std::nullopt);
     ~WebPort();
     // The port bound; the URL to print is url(host).
     Result<uint16_t> start(const std::string& bind_address, uint16_t port);
@@ -46,6 +49,7 @@ private:
     HttpRoutes routes_;
     Timer clock_;
     uint16_t port_ = 0;
+    bool https_ = false;
     std::unique_ptr<WebServer> server_;  // last: its thread calls into the members above
 };
 

@@ -45,9 +45,15 @@ struct WebServerHandlers {
 // dropped message until the next key message.
 enum class MessageKind { independent, key, delta };
 
+// HTTPS: a PEM certificate chain and its private key (files the operator provides).
+struct TlsFiles {
+    std::string certificate, key;
+};
+
 class WebServer {
 public:
-    explicit WebServer(WebServerHandlers handlers);
+    // tls: serve HTTPS and WSS instead of HTTP and WS.
+    explicit WebServer(WebServerHandlers handlers, std::optional<TlsFiles> tls = std::nullopt);
     ~WebServer();  // stop()
     WebServer(const WebServer&) = delete;
     WebServer& operator=(const WebServer&) = delete;

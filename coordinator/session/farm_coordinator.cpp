@@ -151,7 +151,9 @@ Result<uint16_t> Farm::open_http_port() {
     events.left = [this](uint64_t id) { clients_.browser_left(id); };
     events.needs_key = [this](uint64_t id) { clients_.browser_needs_key(id); };
     events.input = [this](uint64_t id, const PlayerInput& in) { clients_.browser_input(id, in); };
-    web_ = std::make_unique<WebPort>(o_.http_token, metrics_, std::move(events));
+    std::optional<TlsFiles> tls;
+    if (!o_.https_cert.empty()) tls = TlsFiles{o_.https_cert, o_.https_key};
+    web_ = std::make_unique<WebPort>(o_.http_token, metrics_, std::move(events), std::move(tls));
     clients_.attach(web_.get());
     return web_->start(o_.bind_address, *o_.http_port);
 }

@@ -31,6 +31,7 @@ struct FarmOptions {
     // but /healthz needs `http_token` (a random one when empty).
     std::optional<uint16_t> http_port;
     std::string http_token;
+    std::string https_cert, https_key;  // both: HTTPS and WSS instead of HTTP and WS
     // CSV outputs; their columns are listed in coordinator/frame/farm_stats.h.
     std::string stats_csv;                     // one row per frame
     std::string tracer_stats_csv;              // one row per tracer and frame

@@ -54,7 +54,7 @@ class BrowserTest(unittest.TestCase):
         still = browser.evaluate(CHANGE)
         browser.screenshot(os.path.join(OUT, name + ".png"))
         browser.evaluate(SNAPSHOT)
-        browser.key("ArrowLeft", "ArrowLeft", 37, hold_seconds=0.3)
+        browser.key("ArrowLeft", "ArrowLeft", 37, hold_seconds=0.6)
         browser.wait_until("window.pathfarm.latenciesMs.length > 0")
         browser.wait_until("window.pathfarm.sentAt.size === 0")
         start = browser.evaluate("window.pathfarm.frames")

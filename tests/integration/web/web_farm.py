@@ -3,6 +3,7 @@ and optionally the native headless client, each a process; stopped (and their lo
 failure) when the test ends."""
 import os
 import re
+import ssl
 import subprocess
 import sys
 import tempfile
@@ -15,8 +16,10 @@ SECRET = "web-test-secret"
 
 class Farm:
     def __init__(self, build, scene="builtin:cornell", tracers=1, size=(160, 90),
-                 extra=(), native_client=False, client_args=()):
+                 extra=(), native_client=False, client_args=(), cafile=None):
         self.build = build
+        # HTTPS: requests verify the server against this certificate.
+        self.ssl = ssl.create_default_context(cafile=cafile) if cafile else None
         self.dir = tempfile.mkdtemp(prefix="pathfarm-web-")
         self.stats_csv = os.path.join(self.dir, "stats.csv")
         self.tracer_csv = os.path.join(self.dir, "tracers.csv")
@@ -76,7 +79,7 @@ class Farm:
         if cookie:
             request.add_header("Cookie", cookie)
         try:
-            with urllib.request.urlopen(request, timeout=10) as r:
+            with urllib.request.urlopen(request, timeout=10, context=self.ssl) as r:
                 return r.status, r.read().decode(), dict(r.headers)
         except urllib.error.HTTPError as e:
             return e.code, e.read().decode(), dict(e.headers)
