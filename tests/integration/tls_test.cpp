@@ -16,14 +16,15 @@
 #include "common/net/tls_psk.h"
 #include "pathfarm/wire/v1/envelope.pb.h"
 #include "tests/support/raw_peer.h"
-#include "tests/support/tcp_relay.h"
+#include "tests/support/tls_records.h"
+#include "tools/fault-proxy/fault_proxy.h"
 
 namespace pathfarm::net {
 namespace {
 
 namespace pb = ::pathfarm::wire::v1;
 using test::RawPeer;
-using test::TcpRelay;
+using tools::FaultProxy;
 
 constexpr char kSecret[] = "tls test secret";
 constexpr char kMarker[] = "PLAINTEXT-MARKER-visible-only-without-tls";
@@ -81,10 +82,11 @@ std::string marked_envelope() {
     return e.SerializeAsString();
 }
 
-// Sends marked messages through a capturing relay; returns what the relay saw each way.
+// Sends marked messages through a capturing proxy; returns what it saw each way.
 std::pair<std::string, std::string> capture(bool tls) {
     Server server(tls);
-    TcpRelay relay(server.port);
+    FaultProxy relay(server.port);
+    relay.capture();
     NetService client_net;
     auto session = client_net.connect_sync(dial(relay.port(), tls));
     EXPECT_TRUE(session.ok()) << session.error().message;
@@ -98,7 +100,8 @@ std::pair<std::string, std::string> capture(bool tls) {
             s->send(marked_envelope());  // and the other way
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    return {relay.from_client(), relay.from_server()};
+    return {relay.captured(FaultProxy::Direction::to_target),
+            relay.captured(FaultProxy::Direction::from_target)};
 }
 
 TEST(Tls, EveryByteOnTheWireIsATlsRecordAndThePayloadIsHidden) {

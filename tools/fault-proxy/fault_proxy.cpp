@@ -67,8 +67,12 @@ FaultProxy::FaultProxy(uint16_t target_port, uint16_t listen_port) : target_port
 FaultProxy::~FaultProxy() {
     stop_ = true;
     if (acceptor_.joinable()) acceptor_.join();
-    std::lock_guard lock(mutex_);
-    for (Link& link : links_)
+    std::list<Link> links;  // joined outside the lock: a link thread may wait for it to capture
+    {
+        std::lock_guard lock(mutex_);
+        links.splice(links.begin(), links_);
+    }
+    for (Link& link : links)
         if (link.thread.joinable()) link.thread.join();
     ::close(listen_fd_);
 }
@@ -82,6 +86,11 @@ void FaultProxy::reset_after(uint64_t bytes, Direction d) {
 }
 
 void FaultProxy::half_open() { ++half_open_epoch_; }
+
+std::string FaultProxy::captured(Direction d) const {
+    std::lock_guard lock(mutex_);
+    return captured_[int(d)];
+}
 
 void FaultProxy::accept_loop() {
     while (!stop_) {
@@ -151,6 +160,10 @@ void FaultProxy::pump(Link& link) {
                     break;
                 }
                 forwarded_[dir] += n;
+                if (capturing_) {
+                    std::lock_guard lock(mutex_);
+                    captured_[dir].append(bytes, 0, n);
+                }
                 if (cut) {
                     reset_at_[dir] = -1;
                     reset(link.fd[0]);

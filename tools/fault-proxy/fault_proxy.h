@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <list>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace pathfarm::tools {
@@ -41,6 +42,9 @@ public:
     void reset_after(uint64_t bytes, Direction d);
     // Forwarding stops for good on the connections open now; their sockets stay open.
     void half_open();
+    // Keeps a copy of every byte forwarded from now on (tests check what crosses the wire).
+    void capture() { capturing_ = true; }
+    std::string captured(Direction d) const;
 
 private:
     struct Link;
@@ -58,7 +62,9 @@ private:
     std::atomic<int64_t> stalled_until_ns_{0};
     std::atomic<int64_t> reset_at_[2] = {-1, -1};  // a forwarded_ count; -1: none
     std::atomic<uint64_t> half_open_epoch_{0};
-    std::mutex mutex_;
+    std::atomic<bool> capturing_{false};
+    mutable std::mutex mutex_;  // links_, captured_
+    std::string captured_[2];
     std::list<Link> links_;
     std::thread acceptor_;
 };
