@@ -118,6 +118,13 @@ void FaultProxy::accept_loop() {
     }
 }
 
+void FaultProxy::forwarded(int dir, const std::string& bytes, std::size_t n) {
+    forwarded_[dir] += n;
+    if (!capturing_) return;
+    std::lock_guard lock(mutex_);
+    captured_[dir].append(bytes, 0, n);
+}
+
 // Reads what arrives on either side into a queue per direction, each chunk due `latency`
 // after its arrival, and writes due chunks at most at the bandwidth cap; faults are checked
 // between steps.
@@ -159,11 +166,7 @@ void FaultProxy::pump(Link& link) {
                     open[0] = open[1] = false;
                     break;
                 }
-                forwarded_[dir] += n;
-                if (capturing_) {
-                    std::lock_guard lock(mutex_);
-                    captured_[dir].append(bytes, 0, n);
-                }
+                forwarded(dir, bytes, n);
                 if (cut) {
                     reset_at_[dir] = -1;
                     reset(link.fd[0]);

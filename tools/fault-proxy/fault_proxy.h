@@ -50,6 +50,7 @@ private:
     struct Link;
     void accept_loop();
     void pump(Link& link);
+    void forwarded(int dir, const std::string& bytes, std::size_t n);
 
     uint16_t target_port_;
     uint16_t port_ = 0;
