@@ -192,9 +192,10 @@ Status PlyReader::read_element(const PlyElement& e, Mesh& mesh) {
                 continue;
             }
             double count = 0.0;
-            // Every value takes a byte at least: a list longer than what is left is not one.
-            if (!read_value(prop.count_type, count) || count < 0.0 || count > 1e6 ||
-                count > double(data_.size() - pos_))
+            // Every value takes a byte at least: a list longer than what is left is not one
+            // (written so that a NaN count fails too).
+            if (!read_value(prop.count_type, count) ||
+                !(count >= 0.0 && count <= 1e6 && count <= double(data_.size() - pos_)))
                 return error(
                     fmt::format("element '{}' {}: bad list length (truncated file?)", e.name, i));
             values.resize(std::size_t(count));
