@@ -133,9 +133,10 @@ class Soak:
 
 def summarize(work, samples):
     shown = frames_shown(f"{work}/stats.csv")
+    # A lost frame is a number missing from the stats CSV (the coordinator skipped it).
     missing = (max(shown) + 1 - len(set(shown))) if shown else 0
     log = open(f"{work}/coordinator.log").read()
-    abandoned = log.count("every tracer of this frame left")
+    taken_over = log.count("tracer(s) take its")  # every tracer of a frame left; not lost
     q = len(samples) // 4
     rss_q2 = statistics.median(s[1] for s in samples[q:2 * q]) if q else 0.0
     rss_q4 = statistics.median(s[1] for s in samples[3 * q:]) if q else 0.0
@@ -143,7 +144,8 @@ def summarize(work, samples):
     faults = sum(open(f"{work}/proxy{i}.log").read().count("fault:") for i in range(2))
     reconnects = open(f"{work}/client_watcher.log").read().count("reconnected")
     return {"minutes": round(samples[-1][0] / 60, 1) if samples else 0, "frames_delivered": len(shown),
-            "frames_lost": missing + abandoned, "rss_mb_q2": rss_q2, "rss_mb_q4": rss_q4,
+            "frames_lost": missing, "frames_taken_over": taken_over, "rss_mb_q2": rss_q2,
+            "rss_mb_q4": rss_q4,
             "rss_growth_pct": round(100 * (rss_q4 / rss_q2 - 1), 1) if rss_q2 else 0.0,
             "fds_min": min(fds), "fds_max": max(fds), "faults_injected": faults,
             "watcher_reconnects": reconnects}

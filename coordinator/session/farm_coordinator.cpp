@@ -192,10 +192,13 @@ FrameWork Farm::next_work(uint64_t frame) const {
 
 void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {
     work_ = next_work(frame);
-    const FrameCommit commit{&p.plain, &p.with_bvh, [&](bool with_bvh) {
+    // Real time prepares frame N+1 only after N: the snapshot describes N while it renders.
+    const FrameCommit commit{&p.plain, &p.with_bvh,
+                             [this, frame](bool with_bvh) {
                                  return wire::encode_commit_envelopes(
                                      encode_commit(pipeline_.snapshot(frame, with_bvh)));
-                             }};
+                             },
+                             scaler_.has_value()};
     tracers_.begin(work_, commit, render);
 }
 

@@ -58,6 +58,7 @@ std::size_t TracerPool::size() const {
 void TracerPool::begin(const FrameWork& work, const FrameCommit& commit, bool render) {
     std::lock_guard lock(mutex_);
     work_ = work;
+    commit_ = FrameCommit{nullptr, nullptr, commit.snapshot, commit.snapshot_during_frame};
     assembler_.emplace(work.width, work.height, work.first_hits);
     tile_bytes_ = 0;
     units_.assign(std::size_t(work_units(work.height)), UnitReport{});
@@ -232,9 +233,12 @@ TracerPool::Wait TracerPool::wait_for_frame(const std::atomic<bool>& stop) {
             return kv.second.replica_commit == work_.frame;
         });
         if (!any_synced && !tracers_.empty()) {
-            spdlog::warn("frame {}: every tracer of this frame left; continuing with the next",
-                         work_.frame);
-            return Wait::abandoned;
+            if (!adopt_frame()) {
+                spdlog::warn("frame {}: every tracer of this frame left; continuing with the next",
+                             work_.frame);
+                return Wait::abandoned;
+            }
+            deadline = Clock::now() + deadline_;
         }
         cv_.wait_until(lock, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
         if (Clock::now() >= deadline && !assembler_->complete()) {
@@ -247,6 +251,28 @@ TracerPool::Wait TracerPool::wait_for_frame(const std::atomic<bool>& stop) {
         }
     }
     return Wait::complete;
+}
+
+// Every tracer of the frame left and others are here: they get a snapshot of the frame and
+// all its missing rows, if the snapshot still describes it. False: the frame is lost.
+bool TracerPool::adopt_frame() {
+    if (!commit_.snapshot_during_frame || !commit_.snapshot) return false;
+    std::optional<std::vector<std::string>> snapshots[2];
+    for (auto& [id, t] : tracers_) {
+        auto& snapshot = snapshots[t.wants_bvh ? 1 : 0];
+        if (!snapshot) snapshot = commit_.snapshot(t.wants_bvh);
+        for (const std::string& m : *snapshot)
+            t.session->send(m);
+        t.replica_commit = work_.frame;
+        t.assigned.clear();
+    }
+    const auto missing = assembler_->missing({0, work_.height});
+    spdlog::warn(
+        "frame {}: every tracer of this frame left; {} tracer(s) take its {} missing "
+        "row range(s)",
+        work_.frame, tracers_.size(), missing.size());
+    reissue(missing, false);
+    return true;
 }
 
 // A tracer that owes rows and has sent nothing for a whole deadline (no tile since its last

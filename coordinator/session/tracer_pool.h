@@ -42,6 +42,11 @@ struct FrameCommit {
     const std::vector<std::string>* plain = nullptr;
     const std::vector<std::string>* with_bvh = nullptr;
     std::function<std::vector<std::string>(bool with_bvh)> snapshot;
+    // The snapshot still describes this frame while it renders (the real-time loop prepares
+    // the next frame only after this one): tracers that join mid-frame can then take over a
+    // frame whose every tracer left, instead of the frame being skipped. The pool keeps
+    // `snapshot` for the frame (plain and with_bvh only during begin()).
+    bool snapshot_during_frame = false;
 };
 
 // One tracer's part in a finished frame (the tracer statistics CSV).
@@ -83,7 +88,9 @@ public:
     void begin(const FrameWork& work, const FrameCommit& commit, bool render);
     enum class Wait { complete, abandoned, stopped };
     // Until every row arrived. Rows still missing at the deadline are re-issued to idle
-    // tracers; a frame whose every tracer left is abandoned.
+    // tracers. When every tracer of the frame left, the tracers there now (or the next to
+    // join) get a snapshot of it and its missing rows if the commit allows it
+    // (snapshot_during_frame); otherwise the frame is abandoned.
     Wait wait_for_frame(const std::atomic<bool>& stop);
     // The finished frame; feeds what the tracers delivered to the balancer for the next one.
     FrameOutcome finish();
@@ -116,6 +123,7 @@ private:
     void reissue(const std::vector<RowRange>& ranges, bool idle_only);
     void steal_for(uint64_t id);
     void drop_silent();
+    bool adopt_frame();
     bool idle(const Tracer& t) const;
     std::vector<RowRange> missing_of(const Tracer& t) const;
 
@@ -127,6 +135,7 @@ private:
     std::map<uint64_t, Tracer> tracers_;
     bool accepting_ = true;
     FrameWork work_;
+    FrameCommit commit_;  // this frame's: only its snapshot is used after begin()
     std::optional<FrameAssembler> assembler_;
     std::vector<UnitReport> units_;       // this frame
     std::vector<double> last_unit_cost_;  // last frame's cost map

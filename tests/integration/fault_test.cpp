@@ -132,5 +132,27 @@ TEST(LinkFaults, TheClientReconnectsWhenItsLinkGoesSilent) {
     EXPECT_NE(log.find("frames=12"), std::string::npos) << log;
 }
 
+// Real time: the only tracer dies in the middle of a frame and another joins later. The frame
+// is not skipped: the newcomer gets a snapshot of it and its missing rows.
+TEST(LinkFaults, AFrameWhoseEveryTracerLeftIsTakenOverNotLost) {
+    Farm farm;
+    farm.mode = {"--game",        "free-camera", "--target-fps", "10",
+                 "--no-converge", "--denoise",   "off"};
+    farm.start({"--frames", "12"});
+    Process& doomed = farm.add_tracer("doomed", {"--slowdown", "40", "--max-reconnects", "0"});
+    wait_until([&] { return farm.csv("stats.csv").size() >= 3; }, 30s);
+    std::this_thread::sleep_for(50ms);  // inside the next frame's rows
+    doomed.kill(SIGKILL);
+    std::this_thread::sleep_for(300ms);
+    farm.add_tracer("rescuer", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    const auto rows = farm.csv("stats.csv");
+    ASSERT_EQ(rows.size(), 12u) << "no frame lost";
+    for (std::size_t f = 0; f < rows.size(); ++f)
+        EXPECT_EQ(rows[f].at(0), std::to_string(f));
+    const std::string log = test::read_file(farm.dir + "/coordinator.log");
+    EXPECT_EQ(log.find("continuing with the next"), std::string::npos) << log;
+}
+
 }  // namespace
 }  // namespace pathfarm
