@@ -246,15 +246,18 @@ private:
 
     // Sends close_notify and waits for the peer's, bounded by a timer: a peer that vanished
     // or never answers does not keep the socket open.
+    // The timer is close_timer_, free once closed: the cancelled reader's handler runs after
+    // this and cancels deadline_, which left a peer that never answered holding the socket
+    // (the 30-minute soak's slow climb of file descriptors and memory).
     void shutdown_tls() {
         asio::error_code ignored;
         socket_.cancel(ignored);  // a pending read ends; the shutdown reads for itself
-        deadline_.expires_after(kTlsShutdownTimeout);
-        deadline_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+        close_timer_.expires_after(kTlsShutdownTimeout);
+        close_timer_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
             if (!ec) self->close_socket();
         });
         tls_->async_shutdown([self = shared_from_this()](const asio::error_code&) {
-            self->deadline_.cancel();
+            self->close_timer_.cancel();
             self->close_socket();
         });
     }

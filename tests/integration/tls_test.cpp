@@ -12,6 +12,7 @@
 
 #include "common/net/auth.h"
 #include "common/net/framing.h"
+#include "common/net/handshake.h"
 #include "common/net/session.h"
 #include "common/net/tls_psk.h"
 #include "pathfarm/wire/v1/envelope.pb.h"
@@ -177,6 +178,35 @@ TEST(Tls, CloseDoesNotWaitForAnAbsentCloseNotify) {
     pb::Envelope e;
     ASSERT_TRUE(body && e.ParseFromString(*body) && e.has_error());
     EXPECT_TRUE(peer.closed_by_peer(/*answer=*/false));
+}
+
+// An established session (its reader waiting for messages) closed by the server, to a peer
+// that never answers close_notify: the TCP connection must still close. The cancelled
+// reader used to cancel the shutdown's timer, leaving the socket open for good.
+TEST(Tls, ClosingAnEstablishedSessionDoesNotWaitForTheSilentPeer) {
+    Server server(true);
+    RawPeer peer(server.port, kSecret);
+    ASSERT_TRUE(peer.connected());
+    PeerInfo hello;
+    hello.role = PeerRole::tracer;
+    hello.name = "silent-at-close";
+    const std::string client_nonce = make_nonce();
+    peer.send_bytes(frame(hello_envelope(hello, client_nonce)));
+    const auto challenge = decode_handshake(peer.receive_frame().value_or(""));
+    ASSERT_EQ(challenge.kind, HandshakeMessage::Kind::challenge);
+    peer.send_bytes(
+        frame(proof_envelope(client_mac(kSecret, "tracer", client_nonce, challenge.nonce))));
+    ASSERT_EQ(decode_handshake(peer.receive_frame().value_or("")).kind,
+              HandshakeMessage::Kind::welcome);
+    std::shared_ptr<Session> session;
+    for (int i = 0; i < 100 && !session; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        std::lock_guard lock(server.mutex);
+        if (!server.sessions.empty()) session = server.sessions.front();
+    }
+    ASSERT_TRUE(session);
+    session->close("bye");
+    EXPECT_TRUE(peer.closed_by_peer(/*answer=*/false)) << "the server kept the socket open";
 }
 
 TEST(Tls, TheKeyExchangeIsEphemeralOnTopOfThePsk) {  // forward secrecy: psk_dhe_ke
