@@ -73,8 +73,10 @@ void TracerPool::begin(const FrameWork& work, const FrameCommit& commit, bool re
 
 void TracerPool::sync(Tracer& t, const FrameCommit& commit,
                       std::optional<std::vector<std::string>> snapshots[2]) {
-    const bool current = work_.frame > 0 && t.replica_commit == work_.frame - 1;
     const std::vector<std::string>* messages = t.wants_bvh ? commit.with_bvh : commit.plain;
+    // Without the commit's messages (a frame taken over mid-way) every tracer gets a snapshot.
+    const bool current =
+        messages != nullptr && work_.frame > 0 && t.replica_commit == work_.frame - 1;
     if (!current) {
         auto& snapshot = snapshots[t.wants_bvh ? 1 : 0];
         if (!snapshot) snapshot = commit.snapshot(t.wants_bvh);
@@ -258,14 +260,8 @@ TracerPool::Wait TracerPool::wait_for_frame(const std::atomic<bool>& stop) {
 bool TracerPool::adopt_frame() {
     if (!commit_.snapshot_during_frame || !commit_.snapshot) return false;
     std::optional<std::vector<std::string>> snapshots[2];
-    for (auto& [id, t] : tracers_) {
-        auto& snapshot = snapshots[t.wants_bvh ? 1 : 0];
-        if (!snapshot) snapshot = commit_.snapshot(t.wants_bvh);
-        for (const std::string& m : *snapshot)
-            t.session->send(m);
-        t.replica_commit = work_.frame;
-        t.assigned.clear();
-    }
+    for (auto& [id, t] : tracers_)
+        sync(t, commit_, snapshots);
     const auto missing = assembler_->missing({0, work_.height});
     spdlog::warn(
         "frame {}: every tracer of this frame left; {} tracer(s) take its {} missing "
