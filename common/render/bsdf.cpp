@@ -25,30 +25,49 @@ Bsdf::Bsdf(const MaterialPoint& mp)
     has_non_delta_ = !smooth_ || w_plastic_ > 0.0f;
 }
 
-Rgb Bsdf::eval_metal(const Vec3& wo, const Vec3& wi) const {
-    if (smooth_ || wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    const Vec3 m = glm::normalize(wo + wi);
-    const Ggx ggx(mp_.alpha);
-    const Rgb f = fresnel_schlick(mp_.base_color, Rgb(1.0f), glm::dot(wo, m));
-    return f * (ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
+BsdfOutgoing Bsdf::outgoing(const Vec3& wo) const {
+    BsdfOutgoing o;
+    o.wo = wo;
+    o.lambda_o = Ggx(mp_.alpha).lambda(wo);
+    o.plastic_specular = plastic_specular_probability(wo);
+    o.plastic_transmit_o =
+        1.0f - max_component(fresnel_schlick(f0_dielectric_, Rgb(mp_.specular), wo.z));
+    return o;
 }
 
-Rgb Bsdf::eval_plastic(const Vec3& wo, const Vec3& wi) const {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return Rgb(0.0f);
-    // The Lambert base receives what the specular layer transmits on the way in and out. The
-    // glTF spec's (1 - F(v.h)) weighting reflects more than it receives at grazing angles; this
-    // symmetric form is reciprocal and conserves energy (bsdf_test).
-    const Rgb f0(f0_dielectric_), f90(mp_.specular);
-    const float t_o = 1.0f - max_component(fresnel_schlick(f0, f90, wo.z));
-    const float t_i = 1.0f - max_component(fresnel_schlick(f0, f90, wi.z));
-    Rgb value = (t_o * t_i) * mp_.base_color * kInvPi;
-    if (!smooth_ && mp_.specular > 0.0f) {
-        const Vec3 m = glm::normalize(wo + wi);
+void Bsdf::eval_pdf_reflection(const BsdfOutgoing& o, const Vec3& wi, Rgb& f, float& pdf) const {
+    const Vec3& wo = o.wo;
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return;
+    // The microfacet terms the metal and the plastic's specular layer share: the value's
+    // D G2 / (4 cos_o cos_i) and the density of the visible normal m.
+    float cos_om = 0.0f, specular = 0.0f, visible = 0.0f;
+    if (!smooth_) {
         const Ggx ggx(mp_.alpha);
-        value += fresnel_schlick(f0, f90, glm::dot(wo, m)) *
-                 (ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
+        const Vec3 m = glm::normalize(wo + wi);
+        const float d = ggx.d(m);
+        cos_om = glm::dot(wo, m);
+        const float g2 = 1.0f / (1.0f + o.lambda_o + ggx.lambda(wi));
+        specular = d * g2 / (4.0f * wo.z * wi.z);
+        visible = 1.0f / (1.0f + o.lambda_o) / std::abs(wo.z) * d * std::abs(cos_om);
     }
-    return value;
+    if (w_metal_ > 0.0f && !smooth_) {
+        f += w_metal_ * (fresnel_schlick(mp_.base_color, Rgb(1.0f), cos_om) * specular);
+        pdf += w_metal_ * visible / (4.0f * cos_om);
+    }
+    if (w_plastic_ > 0.0f) {
+        // The Lambert base receives what the specular layer transmits on the way in and out.
+        // The glTF spec's (1 - F(v.h)) weighting reflects more than it receives at grazing
+        // angles; this symmetric form is reciprocal and conserves energy (bsdf_test).
+        const Rgb f0(f0_dielectric_), f90(mp_.specular);
+        const float t_i = 1.0f - max_component(fresnel_schlick(f0, f90, wi.z));
+        Rgb value = (o.plastic_transmit_o * t_i) * mp_.base_color * kInvPi;
+        if (!smooth_ && mp_.specular > 0.0f) value += fresnel_schlick(f0, f90, cos_om) * specular;
+        f += w_plastic_ * value;
+        const float ps = o.plastic_specular;
+        float p = (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
+        if (!smooth_) p += ps * visible / (4.0f * cos_om);
+        pdf += w_plastic_ * p;
+    }
 }
 
 float Bsdf::eval_glass(const Vec3& wo, const Vec3& wi) const {
@@ -92,31 +111,25 @@ float Bsdf::plastic_specular_probability(const Vec3& wo) const {
     return std::clamp(fs / std::max(fs + diffuse, 1e-6f), 0.1f, 0.9f);
 }
 
-Rgb Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
+Rgb Bsdf::eval_pdf(const BsdfOutgoing& o, const Vec3& wi, float& pdf) const {
     Rgb f(0.0f);
-    if (w_metal_ > 0.0f) f += w_metal_ * eval_metal(wo, wi);
-    if (w_plastic_ > 0.0f) f += w_plastic_ * eval_plastic(wo, wi);
-    if (w_glass_ > 0.0f) f += Rgb(w_glass_ * eval_glass(wo, wi));
+    pdf = 0.0f;
+    eval_pdf_reflection(o, wi, f, pdf);
+    if (w_glass_ > 0.0f) {
+        f += Rgb(w_glass_ * eval_glass(o.wo, wi));
+        pdf += w_glass_ * pdf_glass(o.wo, wi);
+    }
     return f;
+}
+
+Rgb Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
+    float pdf = 0.0f;
+    return eval_pdf(outgoing(wo), wi, pdf);
 }
 
 float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     float pdf = 0.0f;
-    const bool upper = wo.z > 0.0f && wi.z > 0.0f;
-    if (w_metal_ > 0.0f && upper && !smooth_) {
-        const Vec3 m = glm::normalize(wo + wi);
-        pdf += w_metal_ * Ggx(mp_.alpha).visible_d(wo, m) / (4.0f * glm::dot(wo, m));
-    }
-    if (w_plastic_ > 0.0f && upper) {
-        const float ps = plastic_specular_probability(wo);
-        float p = (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
-        if (!smooth_) {
-            const Vec3 m = glm::normalize(wo + wi);
-            p += ps * Ggx(mp_.alpha).visible_d(wo, m) / (4.0f * glm::dot(wo, m));
-        }
-        pdf += w_plastic_ * p;
-    }
-    if (w_glass_ > 0.0f) pdf += w_glass_ * pdf_glass(wo, wi);
+    eval_pdf(outgoing(wo), wi, pdf);
     return pdf;
 }
 
@@ -149,7 +162,8 @@ bool Bsdf::sample_glass(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) c
     return true;  // value and density are filled by the caller's full evaluation
 }
 
-bool Bsdf::sample(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const {
+bool Bsdf::sample(const BsdfOutgoing& o, float u_lobe, Vec2 u, BsdfSample& out) const {
+    const Vec3& wo = o.wo;
     out = BsdfSample{};
     if (u_lobe < w_glass_) {
         if (!sample_glass(wo, u_lobe / w_glass_, u, out)) return false;
@@ -158,7 +172,7 @@ bool Bsdf::sample(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const {
         if (wo.z <= 0.0f) return false;
         u_lobe = (u_lobe - w_glass_) / std::max(1.0f - w_glass_, 1e-7f);
         const bool metal = u_lobe * (w_metal_ + w_plastic_) < w_metal_;
-        const float ps = metal ? 1.0f : plastic_specular_probability(wo);
+        const float ps = metal ? 1.0f : o.plastic_specular;
         const float u_spec =
             metal ? 0.0f : (u_lobe * (w_metal_ + w_plastic_) - w_metal_) / w_plastic_;
         const bool specular = metal || u_spec < ps;
@@ -175,8 +189,7 @@ bool Bsdf::sample(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const {
                           : sample_cosine_hemisphere(u);
         if (out.wi.z <= 0.0f) return false;
     }
-    out.f = eval(wo, out.wi);
-    out.pdf = pdf(wo, out.wi);
+    out.f = eval_pdf(o, out.wi, out.pdf);
     return out.pdf > 0.0f;
 }
 

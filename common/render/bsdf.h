@@ -32,24 +32,39 @@ struct BsdfSample {
     bool delta = false;
 };
 
+// The terms of every evaluation that depend on the outgoing direction alone: a shading point
+// evaluates its BSDF for a light sample and again for its own sample, with the same wo.
+struct BsdfOutgoing {
+    Vec3 wo{0.0f, 0.0f, 1.0f};
+    float lambda_o = 0.0f;          // GGX Smith lambda of wo
+    float plastic_specular = 0.0f;  // probability that sampling takes the plastic's specular layer
+    float plastic_transmit_o = 1.0f;  // what the plastic's specular layer lets through at wo
+};
+
 class Bsdf {
 public:
     explicit Bsdf(const MaterialPoint& mp);
 
-    // Non-delta part of the BSDF (no cosine factor).
+    BsdfOutgoing outgoing(const Vec3& wo) const;
+    // Non-delta part of the BSDF (no cosine factor) and, in pdf, the density of sample()
+    // generating wi through its non-delta lobes: one evaluation shares the half vector, the
+    // microfacet density and the masking between the two.
+    Rgb eval_pdf(const BsdfOutgoing& o, const Vec3& wi, float& pdf) const;
     Rgb eval(const Vec3& wo, const Vec3& wi) const;
-    // Density of sample() generating wi through its non-delta lobes.
     float pdf(const Vec3& wo, const Vec3& wi) const;
     // u_lobe picks the lobe, u the direction. Returns false when no direction was produced.
-    bool sample(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const;
+    bool sample(const BsdfOutgoing& o, float u_lobe, Vec2 u, BsdfSample& out) const;
+    bool sample(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const {
+        return sample(outgoing(wo), u_lobe, u, out);
+    }
 
     // False when every lobe is a delta lobe: light sampling cannot help then.
     bool has_non_delta() const { return has_non_delta_; }
     bool transmissive() const { return w_glass_ > 0.0f; }
 
 private:
-    Rgb eval_metal(const Vec3& wo, const Vec3& wi) const;
-    Rgb eval_plastic(const Vec3& wo, const Vec3& wi) const;
+    // The metal and plastic lobes (both zero unless wo and wi are above the surface).
+    void eval_pdf_reflection(const BsdfOutgoing& o, const Vec3& wi, Rgb& f, float& pdf) const;
     float eval_glass(const Vec3& wo, const Vec3& wi) const;
     float pdf_glass(const Vec3& wo, const Vec3& wi) const;
     float plastic_specular_probability(const Vec3& wo) const;

@@ -52,11 +52,12 @@ bool PathTracer::light_candidate(const ShadingPoint& x, float u_select, Vec2 u_l
     }
     const Vec3 wi_local = x.frame.to_local(c.wi);
     if (!detail::consistent_side(c.wi, wi_local, x.shading_ng)) return false;
-    const Rgb f = x.bsdf.eval(x.wo_local, wi_local) * std::abs(wi_local.z);
+    float bsdf_pdf = 0.0f;
+    const Rgb f = x.bsdf.eval_pdf(x.wo, wi_local, bsdf_pdf) * std::abs(wi_local.z);
     if (max_component(f) <= 0.0f) return false;
     const float weight = settings_.strategy == LightStrategy::light_only
                              ? 1.0f
-                             : power_heuristic(pdf_light, x.bsdf.pdf(x.wo_local, wi_local));
+                             : power_heuristic(pdf_light, bsdf_pdf);
     // Beer's law along the shadow segment, as a BSDF-sampled path to the same point gets it:
     // the medium around an opaque vertex, or a dielectric's inside when wi enters it.
     const Rgb medium = !x.bsdf.transmissive() ? x.sigma_a

@@ -104,7 +104,7 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     const MaterialPoint mp = shading_.material_point(sp);
     const Bsdf bsdf(mp);
     const Orientation o = orient(sp, wo, bsdf.transmissive());
-    const Vec3 wo_local = o.frame.to_local(wo);
+    const BsdfOutgoing wo_local = bsdf.outgoing(o.frame.to_local(wo));
     s.radiance +=
         s.beta * sample_direct({sp, bsdf, o.frame, o.ng, wo_local, s.sigma_a}, sampler, counters);
 

@@ -102,7 +102,8 @@ private:
         const SurfacePoint& sp;
         const Bsdf& bsdf;
         const struct Frame& frame;
-        Vec3 shading_ng, wo_local;
+        Vec3 shading_ng;
+        const BsdfOutgoing& wo;  // the direction back along the ray, in the shading frame
         Rgb sigma_a;
     };
     // One light sample's contribution at x, or (light_candidates > 1) one chosen from several.

@@ -75,7 +75,13 @@ inline uint32_t reversed_sobol_dim1_of_reversed(uint32_t w) {
 class PixelSampler {
 public:
     PixelSampler(uint32_t x, uint32_t y, uint32_t frame, uint32_t sample, uint32_t seed)
-        : pixel_hash_(pf_hash_words4(x, y, frame, seed)), reversed_sample_(reverse_bits(sample)) {}
+        : PixelSampler(pixel_hash(x, y, frame, seed), sample) {}
+    // The same sampler from its pixel's hash, which every sample of the pixel shares.
+    PixelSampler(uint32_t pixel_hash, uint32_t sample)
+        : pixel_hash_(pixel_hash), reversed_sample_(reverse_bits(sample)) {}
+    static uint32_t pixel_hash(uint32_t x, uint32_t y, uint32_t frame, uint32_t seed) {
+        return pf_hash_words4(x, y, frame, seed);
+    }
 
     Vec2 next_2d() {
         const uint32_t pair_seed = pf_pair_seed(pixel_hash_, dimension_pair_++);

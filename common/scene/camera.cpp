@@ -6,13 +6,23 @@
 namespace pathfarm {
 
 Ray generate_camera_ray(const Camera& camera, int width, int height, float px, float py) {
-    const float tan_half = std::tan(0.5f * camera.yfov_radians);
-    const float aspect = float(width) / float(height);
-    const float sx = (2.0f * px / float(width) - 1.0f) * tan_half * aspect;
-    const float sy = (1.0f - 2.0f * py / float(height)) * tan_half;
+    return CameraRays(camera, width, height)(px, py);
+}
+
+CameraRays::CameraRays(const Camera& camera, int width, int height)
+    : camera_to_world_(camera.camera_to_world),
+      eye_(transform_point(camera.camera_to_world, Vec3(0.0f))),
+      tan_half_(std::tan(0.5f * camera.yfov_radians)),
+      aspect_(float(width) / float(height)),
+      width_(float(width)),
+      height_(float(height)) {}
+
+Ray CameraRays::operator()(float px, float py) const {
+    const float sx = (2.0f * px / width_ - 1.0f) * tan_half_ * aspect_;
+    const float sy = (1.0f - 2.0f * py / height_) * tan_half_;
     Ray ray;
-    ray.o = transform_point(camera.camera_to_world, Vec3(0.0f));
-    ray.d = glm::normalize(transform_vector(camera.camera_to_world, Vec3(sx, sy, -1.0f)));
+    ray.o = eye_;
+    ray.d = glm::normalize(transform_vector(camera_to_world_, Vec3(sx, sy, -1.0f)));
     return ray;
 }
 

@@ -18,6 +18,19 @@ struct Camera {
 // image, (width, height) the bottom-right.
 Ray generate_camera_ray(const Camera& camera, int width, int height, float px, float py);
 
+// generate_camera_ray for one camera and image size, with what every ray shares (the eye, the
+// tangent of the half field of view) computed once: the same rays, bit for bit.
+class CameraRays {
+public:
+    CameraRays(const Camera& camera, int width, int height);
+    Ray operator()(float px, float py) const;
+
+private:
+    Mat4 camera_to_world_;
+    Vec3 eye_;
+    float tan_half_, aspect_, width_, height_;
+};
+
 // The default framing for scenes without a camera: looking down -Z at the bounding box, yfov
 // 45 degrees, far enough back that the whole box fits the view for the given aspect.
 Camera frame_bounds(const Bounds3f& bounds, float aspect);
