@@ -68,7 +68,7 @@ def cost(a):
     summary = []
     for radius in ("1", "2"):
         for size in (("320", "180"), ("640", "360")):
-            for mode in ("temporal", "single"):
+            for mode in ("temporal", "moving", "single"):
                 sel = [float(r["median_ms"]) for r in rows
                        if r["radius"] == radius and (r["width"], r["height"]) == size and r["mode"] == mode]
                 summary.append([radius, f"{size[0]}x{size[1]}", mode, f"{statistics.median(sel):.2f}", len(sel)])

@@ -1,9 +1,9 @@
 // The denoiser's cost per frame (issue: real-time reconstruction): a 1-spp frame of a scene
 // with its first hits (Embree), then the denoiser run repeatedly on it as the farm runs it
-// (temporal: accumulation, variance, wavelet) and as pathfarm-render --denoise does (one frame
-// alone). Prints CSV rows `scene,width,height,mode,threads,radius,median_ms,p95_ms,runs`.
-// Arguments: scene spec, runs, threads (0: all), the wavelet's kernel radius (1: 3x3, 2: 5x5),
-// then width x height pairs.
+// (temporal: accumulation, variance, wavelet; over a still view and under a turning camera) and
+// as pathfarm-render --denoise does (one frame alone). Prints CSV rows
+// `scene,width,height,mode,threads,radius,median_ms,p95_ms,runs`. Arguments: scene spec, runs,
+// threads (0: all), the wavelet's kernel radius (1: 3x3, 2: 5x5), then width x height pairs.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <tbb/global_control.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "common/base/log.h"
 #include "common/base/timer.h"
@@ -23,6 +24,18 @@ using namespace pathfarm;
 
 namespace {
 
+// A whole decimal number, or a one-line error naming the argument.
+int parse_int(const char* what, const char* text, int min) {
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    if (end == text || *end != '\0' || v < min || v > 100000) {
+        std::fprintf(stderr, "denoise_filter_bench: %s '%s' is not a whole number >= %d\n", what,
+                     text, min);
+        std::exit(2);
+    }
+    return int(v);
+}
+
 double percentile(std::vector<double> v, double q) {
     std::sort(v.begin(), v.end());
     return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
@@ -33,10 +46,13 @@ struct Frame {
     coord::FrameView view;
 };
 
-Frame render_frame(const SceneModel& loaded, int w, int h) {
+// The scene's camera turned by `yaw_degrees` about its own up axis.
+Frame render_frame(const SceneModel& loaded, int w, int h, float yaw_degrees) {
     SceneModel scene = loaded;
     Camera camera = scene.cameras.empty() ? frame_bounds(world_bounds(scene), float(w) / float(h))
                                           : scene.cameras.front();
+    camera.camera_to_world =
+        glm::rotate(camera.camera_to_world, glm::radians(yaw_degrees), Vec3(0.0f, 1.0f, 0.0f));
     camera = recentre_on_camera(scene, camera);
     auto backend = tracer::create_backend(tracer::BackendKind::embree, {0, 0, 0});
     if (!backend || !(*backend)->set_scene(scene)) {
@@ -58,21 +74,32 @@ Frame render_frame(const SceneModel& loaded, int w, int h) {
 
 void run(const std::string& spec, const SceneModel& scene, int w, int h, int runs, int threads,
          int radius) {
-    const Frame f = render_frame(scene, w, h);
-    std::vector<double> temporal, single;
+    // A still view (the same frame again), a turning camera (two views half a degree apart,
+    // alternated: every pixel is reprojected) and one frame alone.
+    const Frame f = render_frame(scene, w, h, 0.0f), turned = render_frame(scene, w, h, 0.5f);
+    std::vector<double> temporal, moving, single;
     coord::DenoiseOptions options;
     options.atrous.radius = radius;
-    coord::Denoiser denoiser(options);
+    coord::Denoiser still(options), turning(options);
     for (int r = 0; r < runs; ++r) {
+        // The farm hands the denoiser a frame view it owns (moved in): copy it before the clock.
         FloatImage a = f.image, b = f.image;
+        coord::FrameView view = f.view;
         const Timer t1;
-        denoiser.filter(a, f.view, true);
+        still.filter(a, std::move(view), true);
         temporal.push_back(t1.milliseconds());
+        const Frame& m = r % 2 ? turned : f;
+        FloatImage c = m.image;
+        view = m.view;
         const Timer t2;
+        turning.filter(c, std::move(view), true);
+        moving.push_back(t2.milliseconds());
+        const Timer t3;
         coord::denoise_frame(b, f.view.gbuffer, f.view.camera, options);
-        single.push_back(t2.milliseconds());
+        single.push_back(t3.milliseconds());
     }
-    for (const auto& [mode, ms] : {std::pair{"temporal", temporal}, std::pair{"single", single}})
+    for (const auto& [mode, ms] : {std::pair{"temporal", temporal}, std::pair{"moving", moving},
+                                   std::pair{"single", single}})
         std::printf("%s,%d,%d,%s,%d,%d,%.3f,%.3f,%d\n", spec.c_str(), w, h, mode, threads, radius,
                     percentile(ms, 0.5), percentile(ms, 0.95), runs);
 }
@@ -88,8 +115,8 @@ int main(int argc, char** argv) {
     }
     init_logging("denoise-filter-bench", "warn");
     const std::string spec = argv[1];
-    const int runs = std::max(1, std::atoi(argv[2])), threads = std::atoi(argv[3]);
-    const int radius = std::atoi(argv[4]) == 2 ? 2 : 1;
+    const int runs = parse_int("RUNS", argv[2], 1), threads = parse_int("THREADS", argv[3], 0);
+    const int radius = parse_int("RADIUS", argv[4], 1) == 2 ? 2 : 1;
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                               threads > 0 ? std::size_t(threads) : std::size_t(1) << 16);
     auto scene = load_scene(spec);
@@ -99,6 +126,7 @@ int main(int argc, char** argv) {
     }
     std::printf("scene,width,height,mode,threads,radius,median_ms,p95_ms,runs\n");
     for (int i = 5; i + 1 < argc; i += 2)
-        run(spec, *scene, std::atoi(argv[i]), std::atoi(argv[i + 1]), runs, threads, radius);
+        run(spec, *scene, parse_int("W", argv[i], 8), parse_int("H", argv[i + 1], 8), runs, threads,
+            radius);
     return 0;
 }

@@ -2,6 +2,7 @@
 #include "coordinator/converge/temporal_accumulator.h"
 
 #include <algorithm>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -16,19 +17,33 @@ struct Totals {
     Totals operator+(const Totals& o) const { return {f + o.f, kept + o.kept, frames + o.frames}; }
 };
 
-// Mean and standard deviation of the 3x3 neighbourhood of (x, y) in `image`.
+// Mean and standard deviation of the 3x3 neighbourhood of (x, y) in `image`. Inside the image
+// the taps need no bounds checks (a moving camera clamps every pixel's history); the sums run
+// in the same order either way.
 void neighbourhood(const FloatImage& image, int x, int y, Rgb& mean, Rgb& sigma) {
     Rgb sum(0.0f), sum2(0.0f);
     int n = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-            const int sx = x + dx, sy = y + dy;
-            if (sx < 0 || sy < 0 || sx >= image.width || sy >= image.height) continue;
-            const Rgb c = image.pixel(sx, sy);
-            sum += c;
-            sum2 += c * c;
-            ++n;
-        }
+    if (x > 0 && y > 0 && x + 1 < image.width && y + 1 < image.height) {
+        const std::size_t w = std::size_t(image.width);
+        const float* row = &image.rgb[3 * ((std::size_t(y) - 1) * w + std::size_t(x) - 1)];
+        for (int dy = 0; dy < 3; ++dy, row += 3 * w)
+            for (int dx = 0; dx < 3; ++dx) {
+                const Rgb c(row[3 * dx], row[3 * dx + 1], row[3 * dx + 2]);
+                sum += c;
+                sum2 += c * c;
+            }
+        n = 9;
+    } else {
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int sx = x + dx, sy = y + dy;
+                if (sx < 0 || sy < 0 || sx >= image.width || sy >= image.height) continue;
+                const Rgb c = image.pixel(sx, sy);
+                sum += c;
+                sum2 += c * c;
+                ++n;
+            }
+    }
     mean = sum / float(n);
     sigma = glm::sqrt(glm::max(sum2 / float(n) - mean * mean, Rgb(0.0f)));
 }
@@ -46,14 +61,40 @@ Rgb clamp_history(const Rgb& history, const FloatImage& image, int x, int y, con
 }
 
 // How this frame's surfaces moved since the last: the camera, and each instance that moved.
+// Per pixel, reprojection asks about the instance it sees; below kTableIds ids the answers sit
+// in arrays indexed by id (a set or map lookup per pixel cost a third of the blend), larger
+// ids (a long game's) take the trees.
 struct Motion {
+    enum Flag : uint8_t { kMoving = 1, kInView = 2, kInPrevious = 4, kDeformed = 8 };
+    static constexpr uint32_t kTableIds = 1u << 20;
     bool camera_moved = false;
     std::set<uint32_t> moving;             // moved, deformed or new instances
     std::map<uint32_t, Mat4> to_previous;  // this frame's world to last frame's, per mover
+    std::vector<uint8_t> flags;            // by id
+    std::vector<const Mat4*> motion;       // by id: into to_previous, or null
+    const FrameView* prev = nullptr;
+    const FrameView* view = nullptr;
+
+    uint8_t flags_of(uint32_t id) const {
+        if (id < flags.size()) return flags[id];
+        if (id < kTableIds) return 0;  // in no container: the table covers every id they hold
+        return uint8_t((moving.count(id) ? kMoving : 0) |
+                       (view->instances.count(id) ? kInView : 0) |
+                       (prev->instances.count(id) ? kInPrevious : 0) |
+                       (view->deformed.count(id) ? kDeformed : 0));
+    }
+    const Mat4* motion_of(uint32_t id) const {
+        if (id < motion.size()) return motion[id];
+        if (id < kTableIds) return nullptr;
+        const auto it = to_previous.find(id);
+        return it == to_previous.end() ? nullptr : &it->second;
+    }
 };
 
 Motion motion_between(const FrameView& prev, const FrameView& view) {
     Motion m;
+    m.prev = &prev;
+    m.view = &view;
     m.camera_moved = prev.camera.camera_to_world != view.camera.camera_to_world ||
                      prev.camera.yfov_radians != view.camera.yfov_radians;
     m.moving = view.deformed;
@@ -66,6 +107,31 @@ Motion motion_between(const FrameView& prev, const FrameView& view) {
             m.moving.insert(id);
         }
     }
+    uint32_t ids = 0;  // one past the largest id below kTableIds
+    const auto cover = [&](uint32_t id) {
+        if (id < Motion::kTableIds) ids = std::max(ids, id + 1);
+    };
+    for (const auto& entry : view.instances)
+        cover(entry.first);
+    for (const auto& entry : prev.instances)
+        cover(entry.first);
+    for (const uint32_t id : m.moving)
+        cover(id);
+    m.flags.assign(ids, 0);
+    m.motion.assign(ids, nullptr);
+    const auto mark = [&](uint32_t id, Motion::Flag f) {
+        if (id < ids) m.flags[id] |= f;
+    };
+    for (const uint32_t id : m.moving)
+        mark(id, Motion::kMoving);
+    for (const uint32_t id : view.deformed)
+        mark(id, Motion::kDeformed);
+    for (const auto& entry : view.instances)
+        mark(entry.first, Motion::kInView);
+    for (const auto& entry : prev.instances)
+        mark(entry.first, Motion::kInPrevious);
+    for (const auto& [id, to_prev] : m.to_previous)
+        if (id < ids) m.motion[id] = &to_prev;
     return m;
 }
 
@@ -76,26 +142,26 @@ struct Reprojection {
     bool object_moves = false;
 };
 
-Reprojection reproject(const Motion& m, const CameraProjector& project_prev, const FrameView& prev,
-                       const FrameView& view, float depth_tolerance, int x, int y) {
+Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
+                       const CameraRays& camera_ray, const FrameView& prev, const FrameView& view,
+                       float depth_tolerance, int x, int y) {
     const GBuffer& g = view.gbuffer;
     const int w = g.width, h = g.height;
     const std::size_t i = std::size_t(y) * w + x;
     const uint32_t inst = g.instance[i];
+    const uint8_t flags = inst == GBuffer::kNoInstance ? 0 : m.flags_of(inst);
     Reprojection r;
-    r.object_moves = inst != GBuffer::kNoInstance && m.moving.count(inst);
+    r.object_moves = flags & Motion::kMoving;
     float px = x + 0.5f, py = y + 0.5f;
     bool on_screen = true;
     float expected = g.distance[i];
     if (m.camera_moved || r.object_moves) {
         if (inst == GBuffer::kNoInstance) {  // the sky: by direction
-            const Ray ray = generate_camera_ray(view.camera, w, h, x + 0.5f, y + 0.5f);
-            on_screen = project_prev.direction(ray.d, px, py);
+            on_screen = project_prev.direction(camera_ray(x + 0.5f, y + 0.5f).d, px, py);
         } else {
             Vec3 p = g.position[i];
-            if (const auto it = m.to_previous.find(inst); it != m.to_previous.end())
-                p = transform_point(it->second, p);
-            on_screen = !view.deformed.count(inst) && prev.instances.count(inst) &&
+            if (const Mat4* to_previous = m.motion_of(inst)) p = transform_point(*to_previous, p);
+            on_screen = !(flags & Motion::kDeformed) && (flags & Motion::kInPrevious) &&
                         project_prev.point(p, px, py);
             expected = glm::length(p - project_prev.eye());
         }
@@ -109,8 +175,9 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev, con
         // the G-buffer names (it changes at edges when workload scaling changes the render
         // size it is upscaled from), unless something that has moved since covered it.
         const uint32_t was = prev.gbuffer.instance[j];
-        r.valid =
-            was == GBuffer::kNoInstance || (!m.moving.count(was) && view.instances.count(was));
+        const uint8_t was_flags = was == GBuffer::kNoInstance ? 0 : m.flags_of(was);
+        r.valid = was == GBuffer::kNoInstance ||
+                  (!(was_flags & Motion::kMoving) && (was_flags & Motion::kInView));
         return r;
     }
     r.valid = prev.gbuffer.instance[j] == inst &&
@@ -163,6 +230,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     const FrameView& prev = *previous_;
     const Motion motion = motion_between(prev, view);  // camera and instances since `prev`
     const CameraProjector project_prev(prev.camera, w, h);
+    const CameraRays camera_ray(view.camera, w, h);
     // Every pixel of these is written below; kept from frame to frame to spare the allocations.
     if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
     next_frames_.resize(n), next_moments_.resize(n);
@@ -175,8 +243,8 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     const float l = luminance(c);
                     Vec2& m = next_moments_[std::size_t(y) * w + x];
                     m = Vec2(l, l * l);
-                    const Reprojection r =
-                        reproject(motion, project_prev, prev, view, o_.depth_tolerance, x, y);
+                    const Reprojection r = reproject(motion, project_prev, camera_ray, prev, view,
+                                                     o_.depth_tolerance, x, y);
                     if (!r.valid) {
                         next_history_.set_pixel(x, y, c);
                         next_frames_[std::size_t(y) * w + x] = 1.0f;

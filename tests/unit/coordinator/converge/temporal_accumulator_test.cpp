@@ -4,12 +4,15 @@
 // is not. Object motion: what a moving ball uncovers starts over. The G-buffer the farm makes
 // from the tracers' first hits matches one traced through pixel centres by the coordinator's
 // BVH, which the accumulator tests use as their exact G-buffer.
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <gtest/gtest.h>
 
 #include "common/film/image_compare.h"
 #include "common/math/transform.h"
+#include "common/sampling/rng.h"
 #include "common/scene/load/builtin_scenes.h"
 #include "common/scene/scene_state.h"
 #include "coordinator/accel/accel_updater.h"
@@ -174,28 +177,44 @@ TEST(TemporalAccumulator, AStillViewKeepsItsHistoryWhenTheRenderSizeChanges) {
     EXPECT_EQ(acc.min_history_frames(), 8.0f);
 }
 
-TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
-    // builtin:default seen from its camera: the gold ball moves 0.4 m along x.
+// builtin:default seen from its camera before and after its gold ball moves 0.4 m along x.
+struct MovingBall {
+    FrameView before, after;
+    uint32_t ball = 0;  // its instance id
+};
+
+MovingBall moving_ball_views(int w, int h) {
     SceneModel scene = make_default_scene();
     SceneGraph graph(scene);
     AccelUpdater accel;
     const auto snapshot0 = accel.build(graph.state(), 0);
     const uint32_t ball = graph.find_nodes("gold-ball").at(0);
-    FrameView v0;
+    MovingBall m;
+    FrameView& v0 = m.before;
     v0.camera = graph.state().cameras.at(graph.state().active_camera);
     for (const InstanceAccel& i : snapshot0->instances)
         v0.instances[i.id] = i.to_world;
-    const int w = 96, h = 54;
     v0.gbuffer = trace_gbuffer(*snapshot0, v0.camera, w, h);
-    ASSERT_TRUE(
+    EXPECT_TRUE(
         graph.set_node_transform(ball, glm::translate(Mat4(1.0f), Vec3(1.0f, 0.35f, -4.2f))));
     const ChangeSet changes = graph.take_changes();
     const auto snapshot1 = accel.update(graph.state(), changes, 1);
-    FrameView v1 = v0;
+    FrameView& v1 = m.after;
+    v1 = v0;
     v1.instances.clear();
     for (const InstanceAccel& i : snapshot1->instances)
         v1.instances[i.id] = i.to_world;
     v1.gbuffer = trace_gbuffer(*snapshot1, v1.camera, w, h);
+    for (const auto& [id, inst] : graph.state().instances)
+        if (graph.node_of_instance(id) == ball) m.ball = id;
+    return m;
+}
+
+TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
+    const int w = 96, h = 54;
+    const MovingBall m = moving_ball_views(w, h);
+    const FrameView &v0 = m.before, &v1 = m.after;
+    const uint32_t ball_instance = m.ball;
     TemporalAccumulator acc;
     FloatImage flat(w, h);
     for (int k = 0; k < 8; ++k) {
@@ -204,11 +223,6 @@ TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
     }
     FloatImage img = flat;
     acc.blend(img, v1);
-    const uint32_t ball_instance = [&] {
-        for (const auto& [id, inst] : graph.state().instances)
-            if (graph.node_of_instance(id) == ball) return id;
-        return 0u;
-    }();
     int uncovered = 0, ball_pixels = 0;
     for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
         const bool was_ball = v0.gbuffer.instance[i] == ball_instance;
@@ -227,6 +241,44 @@ TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
     }
     EXPECT_GT(uncovered, 10);
     EXPECT_GT(ball_pixels, 10);
+}
+
+// Reprojection looks instance ids up in tables below 2^20 and in the views' maps above: a long
+// game's large ids get the same history, bit for bit, as small ones, on a moving object and a
+// moving camera.
+FrameView shift_ids(FrameView v, uint32_t by) {
+    std::map<uint32_t, Mat4> instances;
+    for (const auto& [id, to_world] : v.instances)
+        instances[id + by] = to_world;
+    v.instances = std::move(instances);
+    for (uint32_t& id : v.gbuffer.instance)
+        if (id != GBuffer::kNoInstance) id += by;
+    return v;
+}
+
+TEST(TemporalAccumulator, LargeInstanceIdsReprojectLikeSmallOnes) {
+    const int w = 64, h = 36;
+    MovingBall m = moving_ball_views(w, h);
+    FrameView turned = m.after;
+    turned.camera.camera_to_world =
+        glm::rotate(turned.camera.camera_to_world, glm::radians(1.0f), Vec3(0.0f, 1.0f, 0.0f));
+    // The same surfaces (G-buffer) seen from a slightly turned camera: every pixel reprojects.
+    for (const uint32_t by : {0u, (1u << 20) - 3u, 1u << 24}) {
+        TemporalAccumulator small, large;
+        Pcg32 rng(5);
+        for (const FrameView* v : {&m.before, &m.before, &m.before, &m.after, &turned}) {
+            FloatImage noise(w, h);
+            for (float& c : noise.rgb)
+                c = rng.next_float();
+            FloatImage a = noise, b = noise;
+            small.blend(a, *v);
+            large.blend(b, shift_ids(*v, by));
+            ASSERT_EQ(a.rgb, b.rgb) << "ids shifted by " << by;
+            ASSERT_EQ(small.history_frames(), large.history_frames()) << "ids shifted by " << by;
+        }
+        EXPECT_LT(*std::min_element(small.history_frames().begin(), small.history_frames().end()),
+                  4.0f);  // the ball and the turn dropped some history
+    }
 }
 
 // builtin:default as a tracer renders it from the coordinator's scene graph (the replica's
