@@ -17,46 +17,15 @@ struct Totals {
     Totals operator+(const Totals& o) const { return {f + o.f, kept + o.kept, frames + o.frames}; }
 };
 
-// Mean and standard deviation of the 3x3 neighbourhood of (x, y) in `image`. Inside the image
-// the taps need no bounds checks (a moving camera clamps every pixel's history); the sums run
-// in the same order either way.
-void neighbourhood(const FloatImage& image, int x, int y, Rgb& mean, Rgb& sigma) {
-    Rgb sum(0.0f), sum2(0.0f);
-    int n = 0;
-    if (x > 0 && y > 0 && x + 1 < image.width && y + 1 < image.height) {
-        const std::size_t w = std::size_t(image.width);
-        const float* row = &image.rgb[3 * ((std::size_t(y) - 1) * w + std::size_t(x) - 1)];
-        for (int dy = 0; dy < 3; ++dy, row += 3 * w)
-            for (int dx = 0; dx < 3; ++dx) {
-                const Rgb c(row[3 * dx], row[3 * dx + 1], row[3 * dx + 2]);
-                sum += c;
-                sum2 += c * c;
-            }
-        n = 9;
-    } else {
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int sx = x + dx, sy = y + dy;
-                if (sx < 0 || sy < 0 || sx >= image.width || sy >= image.height) continue;
-                const Rgb c = image.pixel(sx, sy);
-                sum += c;
-                sum2 += c * c;
-                ++n;
-            }
-    }
-    mean = sum / float(n);
-    sigma = glm::sqrt(glm::max(sum2 / float(n) - mean * mean, Rgb(0.0f)));
-}
-
 // History of a moving pixel clamped to this frame's 3x3 neighbourhood, mean +- `sigmas`
 // deviations, widened by one frame's own noise (from the history's moments `mh`): a
 // neighbourhood of sparse samples (mostly dark, a few bright) says little about the mean, and
 // clamping to it alone darkened such scenes (a Sponza walk to 0.44 of its brightness).
-Rgb clamp_history(const Rgb& history, const FloatImage& image, int x, int y, const Vec2& mh,
-                  float sigmas) {
-    Rgb mean, sigma;
-    neighbourhood(image, x, y, mean, sigma);
-    const Rgb bound = sigmas * (sigma + Rgb(std::sqrt(std::max(0.0f, mh.y - mh.x * mh.x))));
+Rgb clamp_history(const Rgb& history, const NeighbourhoodStats& nb, std::size_t pixel,
+                  const Vec2& mh, float sigmas) {
+    const Rgb mean = nb.mean(pixel);
+    const Rgb bound =
+        sigmas * (nb.sigma(pixel) + Rgb(std::sqrt(std::max(0.0f, mh.y - mh.x * mh.x))));
     return glm::clamp(history, mean - bound, mean + bound);
 }
 
@@ -234,6 +203,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     // Every pixel of these is written below; kept from frame to frame to spare the allocations.
     if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
     next_frames_.resize(n), next_moments_.resize(n);
+    if (motion.camera_moved || !motion.moving.empty()) neighbourhood_.compute(image);
     const Totals totals = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h), Totals{},
         [&](const tbb::blocked_range<int>& rows, Totals t) {
@@ -256,7 +226,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     float k = frames_[std::size_t(r.hy) * w + r.hx] + 1.0f;
                     if (motion.camera_moved || r.object_moves) {
                         history =
-                            clamp_history(history, image, x, y,
+                            clamp_history(history, neighbourhood_, std::size_t(y) * w + x,
                                           moments_[std::size_t(r.hy) * w + r.hx], o_.clamp_sigmas);
                         const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
                         k = std::min(k, 1.0f / floor);

@@ -12,6 +12,7 @@
 
 #include "common/film/film.h"
 #include "coordinator/converge/gbuffer.h"
+#include "coordinator/converge/neighbourhood.h"
 
 namespace pathfarm::coord {
 
@@ -66,6 +67,7 @@ private:
     FloatImage next_history_;  // the blend's outputs before they become the history
     std::vector<float> next_frames_;
     std::vector<Vec2> next_moments_;
+    NeighbourhoodStats neighbourhood_;  // of the new frame, for the history clamp
 };
 
 }  // namespace pathfarm::coord
