@@ -191,29 +191,34 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
     }
     // Camera space: normals rotated into it, points as depth along the view axis times the
     // pixel centre's film point (x, y, -1) at unit depth (generate_camera_ray's inverse).
-    const Mat4 world_to_camera = glm::inverse(camera.camera_to_world);
+    const Mat3 to_camera(glm::inverse(camera.camera_to_world));
     const float tan_half = std::tan(0.5f * camera.yfov_radians);
     pitch_ = 2.0f * tan_half / float(height_);
     const float film_x = 2.0f * tan_half * float(width_) / float(height_) / float(width_);
     const float inv_sigma_pitch = 1.0f / (o_.sigma_plane * pitch_);
+    film_x_.resize(std::size_t(width_));
+    for (int x = 0; x < width_; ++x)
+        film_x_[std::size_t(x)] = (float(x) + 0.5f) * film_x - 0.5f * float(width_) * film_x;
     parallel_rows(height_, [&](int y) {
         const float fy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half;
+        const std::size_t row = std::size_t(y) * width_;
+        const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
         for (int x = 0; x < width_; ++x) {
-            const std::size_t i = std::size_t(y) * width_ + x;
-            const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
+            const std::size_t i = row + x, k = k0 + x;
             if (!filter[i]) {
                 nx_[k] = ny_[k] = nz_[k] = z_[k] = slope_[k] = offset_[k] = inv_plane_[k] = 0.0f;
                 continue;
             }
-            const Vec3 n = glm::normalize(transform_vector(world_to_camera, g.normal[i]));
-            const Vec3 film((float(x) + 0.5f) * film_x - 0.5f * float(width_) * film_x, fy, -1.0f);
-            const float z = g.distance[i] / glm::length(film);
+            const Vec3 n = glm::normalize(to_camera * g.normal[i]);
+            const float fx = film_x_[std::size_t(x)];
+            const float z = g.distance[i] / std::sqrt(fx * fx + fy * fy + 1.0f);
+            const float slope = n.x * fx + n.y * fy - n.z;  // n . (fx, fy, -1)
             nx_[k] = n.x;
             ny_[k] = n.y;
             nz_[k] = n.z;
             z_[k] = z;
-            slope_[k] = glm::dot(n, film);
-            offset_[k] = z * slope_[k];
+            slope_[k] = slope;
+            offset_[k] = z * slope;
             inv_plane_[k] = inv_sigma_pitch / g.distance[i];
         }
     });

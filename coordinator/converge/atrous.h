@@ -49,6 +49,7 @@ private:
     // Guide (padded, camera space): normal, depth along the view axis, n . film point, n .
     // point, inverse plane tolerance (0: not filtered).
     std::vector<float> nx_, ny_, nz_, z_, slope_, offset_, inv_plane_;
+    std::vector<float> film_x_;  // per column: the pixel centre's film x at unit depth
     // Colour and variance, in and out of a level (padded), and the luminance tolerance's inverse.
     std::vector<float> rgb_[2][3], var_[2], inv_lum_;
 };

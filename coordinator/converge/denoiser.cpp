@@ -45,22 +45,35 @@ void Denoiser::prepare(const GBuffer& g, const Camera& camera) {
     filter_mask_.resize(n);
     near_sharp_.resize(n);
     albedo_.resize(n);
+    // Loops over bytes and floats without clamps inside a row, so that they vectorise.
     parallel_rows(h, [&](int y) {
         const uint8_t* sharp = &g.sharp[std::size_t(y) * w];
         uint8_t* dilated = &near_sharp_[std::size_t(y) * w];
-        for (int x = 0; x < w; ++x)
-            dilated[x] = sharp[std::max(0, x - 1)] | sharp[x] | sharp[std::min(w - 1, x + 1)];
+        if (w == 1) {
+            dilated[0] = sharp[0];
+            return;
+        }
+        dilated[0] = sharp[0] | sharp[1];
+        for (int x = 1; x + 1 < w; ++x)
+            dilated[x] = sharp[x - 1] | sharp[x] | sharp[x + 1];
+        dilated[w - 1] = sharp[w - 2] | sharp[w - 1];
     });
     parallel_rows(h, [&](int y) {
+        const std::size_t row = std::size_t(y) * w;
         const uint8_t* up = &near_sharp_[std::size_t(std::max(0, y - 1)) * w];
-        const uint8_t* mid = &near_sharp_[std::size_t(y) * w];
+        const uint8_t* mid = &near_sharp_[row];
         const uint8_t* down = &near_sharp_[std::size_t(std::min(h - 1, y + 1)) * w];
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            const bool hit = g.hit(i);
-            filter_mask_[i] = hit && !(up[x] | mid[x] | down[x]);
-            albedo_[i] = hit ? glm::max(g.albedo[i], Rgb(o_.albedo_floor)) : Rgb(1.0f);
-        }
+        const uint32_t* instance = &g.instance[row];
+        uint8_t* mask = &filter_mask_[row];
+        for (int x = 0; x < w; ++x)
+            mask[x] = uint8_t(instance[x] != GBuffer::kNoInstance) &
+                      uint8_t((up[x] | mid[x] | down[x]) == 0);
+        const float* base = &g.albedo[row].x;
+        float* albedo = &albedo_[row].x;
+        for (int j = 0; j < 3 * w; ++j)
+            albedo[j] = std::max(base[j], o_.albedo_floor);
+        for (int x = 0; x < w; ++x)
+            if (instance[x] == GBuffer::kNoInstance) albedo_[row + x] = Rgb(1.0f);
     });
     atrous_.set_guide(g, camera, filter_mask_);
 }
