@@ -6,14 +6,19 @@
 namespace pathfarm::coord {
 
 WorkloadScaler::WorkloadScaler(const ScalerOptions& options) : o_(options) {
-    // Steps of at most about 1.5x in work: a coarser ladder leaves the budget unused.
+    // Steps of at most about 1.5x in work: a coarser ladder leaves the budget unused. Below
+    // 1 spp, where a real-time farm usually sits, resolution steps of 5 % (about 1.1x in
+    // work): with 10 % steps the demo's frames settled at 76 ms of a 90 ms budget, the next
+    // step up predicted at 94.
     for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 4 ? (spp * 2) / 3 : spp - 1)
         ladder_.push_back({spp, 1.0f, 1.0f});
     for (float rr : {0.75f, 0.5f, 0.35f})
         if (rr >= o_.min_rr_scale) ladder_.push_back({1, rr, 1.0f});
     const float rr = ladder_.back().rr_scale;
-    for (float res : {0.9f, 0.8f, 0.7f, 0.6f, 0.5f, 0.4f, 0.3f})
+    for (int percent = 95; percent >= 30; percent -= 5) {
+        const float res = float(percent) / 100.0f;
         if (res >= o_.min_resolution) ladder_.push_back({1, rr, res});
+    }
 }
 
 double WorkloadScaler::work(const QualityLevel& l) {

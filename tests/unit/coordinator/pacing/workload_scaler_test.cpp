@@ -52,9 +52,9 @@ TEST(WorkloadScaler, HoldsTheTargetAsCapacityHalvesAndRecovers) {
 }
 
 // Frames of a fixed 17 ms that no level changes plus ms_per_work x work, recovering from a slow
-// spell, over a range of farm speeds: told the render part, the scaler settles nearer the
-// budget on average (and never over it); taking the whole frame as scaling with the work, a
-// rise looks costlier than it is and it stops lower.
+// spell, over a range of farm speeds: told the render part, the scaler settles near the budget
+// on average (and never over it; resolution steps of 5 % leave little between levels); taking
+// the whole frame as scaling with the work, a rise looks costlier than it is and it stops lower.
 TEST(WorkloadScaler, UsesTheBudgetAroundAFixedPerFrameCost) {
     const auto settle = [](bool told, double ms_per_work) {
         WorkloadScaler s({10.0, 4, 0.35f, 0.3f});  // 100 ms frames, 90 ms budget
@@ -75,8 +75,9 @@ TEST(WorkloadScaler, UsesTheBudgetAroundAFixedPerFrameCost) {
         told_sum += told;
         untold_sum += settle(false, k);
     }
-    EXPECT_GE(told_sum / speeds, 0.78 * 90.0) << "the budget used on average";
-    EXPECT_GT(told_sum / speeds, untold_sum / speeds + 2.0) << untold_sum / speeds << " untold";
+    // With resolution steps of 10 % the average was 73.6 ms (told) and 69.1 ms (untold).
+    EXPECT_GE(told_sum / speeds, 0.83 * 90.0) << "the budget used on average";
+    EXPECT_GT(told_sum / speeds, untold_sum / speeds + 1.0) << untold_sum / speeds << " untold";
 }
 
 TEST(WorkloadScaler, SaysWhenEvenTheFloorIsTooSlow) {
