@@ -30,6 +30,8 @@ def demo(bin_dir, out_dir, frames):
     pixels = statistics.mean(float(r["render_width"]) * float(r["render_height"]) for r in stats)
     spp = statistics.mean(float(r["spp"]) for r in stats)
     rr = statistics.mean(float(r["rr_scale"]) for r in stats)
+    # The denoiser's time on the display thread, while the tracers render the next frame.
+    denoise = [float(r["denoise_ms"]) for r in stats if float(r.get("denoise_ms") or 0.0) > 0.0]
     busy, update = {}, {}
     for r in csv.DictReader(open(os.path.join(out_dir, "tracers.csv"))):
         busy[r["tracer"]] = busy.get(r["tracer"], 0.0) + float(r["render_ms"])
@@ -38,11 +40,12 @@ def demo(bin_dir, out_dir, frames):
     update_pct = statistics.mean(100.0 * ms / 1000.0 / seconds for ms in update.values())
     return {"fps": fps, "pixels": pixels, "spp": spp, "rr_scale": rr, "render_pct": render_pct,
             "update_pct": update_pct, "latency_p50_ms": latency.get("latency_p50_ms", 0.0),
-            "latency_p99_ms": latency.get("latency_p99_ms", 0.0)}
+            "latency_p99_ms": latency.get("latency_p99_ms", 0.0),
+            "denoise_ms_p50": statistics.median(denoise) if denoise else 0.0}
 
 
 KEYS = ["fps", "pixels", "spp", "rr_scale", "render_pct", "update_pct", "latency_p50_ms",
-        "latency_p99_ms"]
+        "latency_p99_ms", "denoise_ms_p50"]
 
 
 def plot(out, rounds):
