@@ -104,14 +104,14 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     const MaterialPoint mp = shading_.material_point(sp);
     const Bsdf bsdf(mp);
     const Orientation o = orient(sp, wo, bsdf.transmissive());
-    const BsdfOutgoing wo_local = bsdf.outgoing(o.frame.to_local(wo));
+    const BsdfOutgoing outgoing = bsdf.outgoing(o.frame.to_local(wo));
     s.radiance +=
-        s.beta * sample_direct({sp, bsdf, o.frame, o.ng, wo_local, s.sigma_a}, sampler, counters);
+        s.beta * sample_direct({sp, bsdf, o.frame, o.ng, outgoing, s.sigma_a}, sampler, counters);
 
     const Vec2 u_lobe = sampler.next_2d();
     const Vec2 u_dir = sampler.next_2d();
     BsdfSample bs;
-    if (!bsdf.sample(wo_local, u_lobe.x, u_dir, bs)) return false;
+    if (!bsdf.sample(outgoing, u_lobe.x, u_dir, bs)) return false;
     const Vec3 wi = o.frame.to_world(bs.wi);
     if (!detail::consistent_side(wi, bs.wi, o.ng)) return false;
     const Vec3 ng_out = glm::dot(wi, o.ng) > 0.0f ? o.ng : -o.ng;

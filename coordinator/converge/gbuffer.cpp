@@ -25,6 +25,7 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
     g.resize(width, height);
     if (hits.size() != std::size_t(hits_width) * std::size_t(hits_height) || hits.empty())
         return g;  // none: every pixel a miss, no history survives
+    const CameraRays camera_ray(camera, width, height);
     for (int y = 0; y < height; ++y) {
         const int hy = std::min(hits_height - 1, int((y + 0.5f) * hits_height / height));
         for (int x = 0; x < width; ++x) {
@@ -32,7 +33,7 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
             const FirstHit& h = hits[std::size_t(hy) * hits_width + hx];
             const std::size_t i = std::size_t(y) * width + x;
             if (!h.hit() || h.instance == GBuffer::kNoInstance) continue;
-            const Ray ray = generate_camera_ray(camera, width, height, x + 0.5f, y + 0.5f);
+            const Ray ray = camera_ray(x + 0.5f, y + 0.5f);
             g.distance[i] = h.distance;
             g.instance[i] = h.instance;
             g.position[i] = ray.o + ray.d * h.distance;
