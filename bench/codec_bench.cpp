@@ -2,9 +2,11 @@
 // H.264 through libx264, on a recorded sequence of frames as the farm sends them (sRGB after
 // tonemapping). Per setting (JPEG quality, or H.264 CRF with the stream's settings), every
 // frame is encoded, timed, decoded and compared with the uncompressed frame.
-// Usage: pathfarm-codec-bench FOLDER_OF_PFM_FRAMES PRESET[:PROFILE[:TUNE]] THREADS QUALITIES CRFS
+// Usage: pathfarm-codec-bench FOLDER_OF_PFM_FRAMES PRESET[:PROFILE[:TUNE[:X264_PARAMS]]] THREADS
+//   QUALITIES CRFS (PRESET "stream": the coordinator's stream settings)
 //   (QUALITIES and CRFS comma-separated). Prints CSV rows
-//   `codec,setting,width,height,frames,encode_ms_median,encode_ms_p95,bytes_mean,psnr_mean,psnr_min`.
+//   `codec,setting,width,height,frames,encode_ms_median,encode_ms_p95,bytes_mean,psnr_mean,psnr_min,
+//   ssim_mean` (SSIM of the luma).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -24,7 +26,7 @@ using namespace pathfarm;
 namespace {
 
 struct Row {
-    std::vector<double> ms, bytes, psnr;
+    std::vector<double> ms, bytes, psnr, ssim;
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -48,9 +50,9 @@ std::vector<int> numbers(const std::string& list) {
 }
 
 void print(const char* codec, int setting, int w, int h, const Row& r) {
-    std::printf("%s,%d,%d,%d,%zu,%.4f,%.4f,%.1f,%.3f,%.3f\n", codec, setting, w, h, r.ms.size(),
-                percentile(r.ms, 0.5), percentile(r.ms, 0.95), mean(r.bytes), mean(r.psnr),
-                *std::min_element(r.psnr.begin(), r.psnr.end()));
+    std::printf("%s,%d,%d,%d,%zu,%.4f,%.4f,%.1f,%.3f,%.3f,%.5f\n", codec, setting, w, h,
+                r.ms.size(), percentile(r.ms, 0.5), percentile(r.ms, 0.95), mean(r.bytes),
+                mean(r.psnr), *std::min_element(r.psnr.begin(), r.psnr.end()), mean(r.ssim));
 }
 
 int jpeg(const std::vector<std::vector<uint8_t>>& frames, int w, int h, int quality) {
@@ -64,6 +66,7 @@ int jpeg(const std::vector<std::vector<uint8_t>>& frames, int w, int h, int qual
         if (!back) return std::fprintf(stderr, "%s\n", back.error().message.c_str()), 1;
         r.bytes.push_back(double(bytes->size()));
         r.psnr.push_back(psnr8(back->rgb, rgb));
+        r.ssim.push_back(ssim8(back->rgb, rgb, w, h));
     }
     print("jpeg", quality, w, h, r);
     return 0;
@@ -71,17 +74,26 @@ int jpeg(const std::vector<std::vector<uint8_t>>& frames, int w, int h, int qual
 
 int h264(const std::vector<std::vector<uint8_t>>& frames, int w, int h, int crf,
          const std::string& preset, int threads) {
-    // PRESET[:PROFILE[:TUNE]]
+    // PRESET[:PROFILE[:TUNE[:X264_PARAMS]]], x264's options separated by '/' (':' splits here).
+    // PRESET "stream": the coordinator's stream, the other fields overriding or adding to it.
     std::vector<std::string> parts;
     std::stringstream in(preset);
     for (std::string part; std::getline(in, part, ':');)
         parts.push_back(part);
-    parts.resize(3);
-    auto encoder = H264Encoder::open({w, h, 10.0, 120, crf, threads, parts[0],
-                                      parts[1].empty() ? "baseline" : parts[1],
-                                      parts[2].empty() ? "zerolatency" : parts[2]});
+    parts.resize(4);
+    std::replace(parts[3].begin(), parts[3].end(), '/', ':');
+    H264Settings s = h264_stream_settings(w, h);
+    if (parts[0] != "stream")
+        s = {w, h, 10.0, 100, crf, 1, parts[0], "baseline", "zerolatency", ""};
+    s.crf = crf;
+    s.threads = threads;
+    if (!parts[1].empty()) s.profile = parts[1];
+    if (!parts[2].empty()) s.tune = parts[2];
+    if (!parts[3].empty()) s.x264_params += (s.x264_params.empty() ? "" : ":") + parts[3];
+    auto encoder = H264Encoder::open(s);
+    if (!encoder) return std::fprintf(stderr, "%s\n", encoder.error().message.c_str()), 1;
     auto decoder = H264Decoder::open();
-    if (!encoder || !decoder) return std::fprintf(stderr, "H.264 unavailable\n"), 1;
+    if (!decoder) return std::fprintf(stderr, "%s\n", decoder.error().message.c_str()), 1;
     Row r;
     for (const auto& rgb : frames) {
         const Timer t;
@@ -92,6 +104,7 @@ int h264(const std::vector<std::vector<uint8_t>>& frames, int w, int h, int crf,
         if (!back) return std::fprintf(stderr, "%s\n", back.error().message.c_str()), 1;
         r.bytes.push_back(double(picture->bytes.size()));
         r.psnr.push_back(psnr8(back->rgb, rgb));
+        r.ssim.push_back(ssim8(back->rgb, rgb, w, h));
     }
     print("h264", crf, w, h, r);
     return 0;
@@ -122,7 +135,7 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "codec,setting,width,height,frames,encode_ms_median,encode_ms_p95,bytes_mean,"
-        "psnr_mean,psnr_min\n");
+        "psnr_mean,psnr_min,ssim_mean\n");
     for (int q : numbers(argv[4]))
         if (jpeg(frames, w, h, q)) return 1;
     for (int crf : numbers(argv[5]))

@@ -1,15 +1,20 @@
 #!/usr/bin/env python3
-"""JPEG q90 against H.264 at equal PSNR, per frame, at 320x180 and 640x360 (issue: the game in
-a browser: H.264 at most 5 ms a frame at 320x180 on one thread, at least 3x fewer bytes).
+"""JPEG q90 against H.264 at equal PSNR and at equal SSIM, per frame, at 320x180 and 640x360
+(issue: the game in a browser: H.264 at most 5 ms a frame at 320x180 on one thread, at least 3x
+fewer bytes at equal PSNR).
 
 Records the frames a client receives (scripts/demo.sh with --dump-frames: builtin:default's
 game, the client turning, workload scaling and the denoiser on; cached in bench/cache/codec),
 then runs pathfarm-codec-bench over them: JPEG at several qualities and H.264 at several CRFs,
-one thread, with the browsers' stream settings (veryfast, high profile, zerolatency) and the
-same tuned for PSNR (x264's psnr tune: no psychovisual optimisation, which spends bits where
-PSNR does not see them). The H.264 bytes and time at JPEG q90's PSNR are interpolated between
-the two CRFs around it. Writes
-bench/results/codec_bench.csv, codec_equal_psnr.csv and codec_bench.png (rate-distortion)."""
+one thread, with
+- h264: the coordinator's stream settings (h264_stream_settings: faster, high, zerolatency),
+- h264-veryfast: the stream's settings before 2026-12-03 (veryfast),
+- h264-psnr: the stream tuned for the PSNR figure (x264's psnr tune: no adaptive quantisation
+  or psychovisual optimisation; chroma quantised 6 steps finer): fewer bytes at equal PSNR,
+  a lower SSIM than JPEG's.
+The H.264 bytes, time and SSIM at JPEG q90's PSNR (and bytes at its SSIM) are interpolated
+between the CRFs around it. Writes bench/results/codec_bench.csv, codec_equal_psnr.csv and
+codec_bench.png (rate-distortion in PSNR and in SSIM)."""
 import argparse
 import csv
 import io
@@ -33,16 +38,22 @@ def record(build, size, frames, cache):
     return folder
 
 
-def at_psnr(rows, psnr, field):
-    """`field` of the H.264 rows interpolated at `psnr` (bytes log-linearly)."""
-    rows = sorted(rows, key=lambda r: r["psnr_mean"])
+def at(rows, key, target, field):
+    """`field` of the H.264 rows interpolated where `key` (psnr_mean or ssim_mean) equals
+    `target` (bytes log-linearly)."""
+    rows = sorted(rows, key=lambda r: r[key])
     for lo, hi in zip(rows, rows[1:]):
-        if lo["psnr_mean"] <= psnr <= hi["psnr_mean"]:
-            t = (psnr - lo["psnr_mean"]) / (hi["psnr_mean"] - lo["psnr_mean"])
+        if lo[key] <= target <= hi[key]:
+            t = (target - lo[key]) / (hi[key] - lo[key])
             if field == "bytes_mean":
                 return math.exp((1 - t) * math.log(lo[field]) + t * math.log(hi[field]))
             return (1 - t) * lo[field] + t * hi[field]
-    raise SystemExit(f"codec_bench: PSNR {psnr:.2f} dB outside the CRFs' range")
+    raise SystemExit(f"codec_bench: {key} {target:.4f} outside the CRFs' range")
+
+
+VARIANTS = (("h264", "stream", "50,70,80,90,95"),
+            ("h264-veryfast", "veryfast:high:zerolatency", "90"),
+            ("h264-psnr", "stream::psnr,zerolatency:chroma-qp-offset=-6", "90"))
 
 
 def main():
@@ -57,8 +68,7 @@ def main():
     for size in ((320, 180), (640, 360)):
         folder = record(a.build, size, a.frames, a.cache)
         rows = []
-        for name, setting, qualities in (("h264", "veryfast:high", "50,70,80,90,95"),
-                                         ("h264-psnr", "veryfast:high:psnr,zerolatency", "90")):
+        for name, setting, qualities in VARIANTS:
             out = subprocess.run([os.path.join(a.build, "bench", "pathfarm-codec-bench"),
                                   folder, setting, "1", qualities, "9,12,15,18,21,24,27,30"],
                                  capture_output=True, text=True, check=True).stdout
@@ -69,51 +79,60 @@ def main():
             rows += [r for r in part if r["codec"] != "jpeg" or name == "h264"]
         table += rows
         jpeg = next(r for r in rows if r["codec"] == "jpeg" and r["setting"] == 90)
-        for name in ("h264", "h264-psnr"):
+        for name, _, _ in VARIANTS:
             h264 = [r for r in rows if r["codec"] == name]
-            bytes_h264 = at_psnr(h264, jpeg["psnr_mean"], "bytes_mean")
-            ms_h264 = at_psnr(h264, jpeg["psnr_mean"], "encode_ms_median")
-            summary.append([f"{size[0]}x{size[1]}", name, round(jpeg["psnr_mean"], 2),
+            psnr = jpeg["psnr_mean"]
+            bytes_h264 = at(h264, "psnr_mean", psnr, "bytes_mean")
+            ms_h264 = at(h264, "psnr_mean", psnr, "encode_ms_median")
+            ssim_h264 = at(h264, "psnr_mean", psnr, "ssim_mean")
+            bytes_at_ssim = at(h264, "ssim_mean", jpeg["ssim_mean"], "bytes_mean")
+            summary.append([f"{size[0]}x{size[1]}", name, round(psnr, 2),
                             round(jpeg["bytes_mean"]), round(jpeg["encode_ms_median"], 3),
-                            round(bytes_h264), round(ms_h264, 3),
-                            round(jpeg["bytes_mean"] / bytes_h264, 2)])
-            print(f"{size[0]}x{size[1]}: JPEG q90 {jpeg['psnr_mean']:.2f} dB, "
+                            round(jpeg["ssim_mean"], 5), round(bytes_h264), round(ms_h264, 3),
+                            round(ssim_h264, 5), round(jpeg["bytes_mean"] / bytes_h264, 2),
+                            round(jpeg["bytes_mean"] / bytes_at_ssim, 2)])
+            print(f"{size[0]}x{size[1]}: JPEG q90 {psnr:.2f} dB SSIM {jpeg['ssim_mean']:.4f}, "
                   f"{jpeg['bytes_mean']:.0f} B, {jpeg['encode_ms_median']:.2f} ms; {name} at "
-                  f"that PSNR {bytes_h264:.0f} B, {ms_h264:.2f} ms: "
-                  f"{jpeg['bytes_mean'] / bytes_h264:.2f}x fewer bytes")
+                  f"that PSNR {bytes_h264:.0f} B, {ms_h264:.2f} ms, SSIM {ssim_h264:.4f}: "
+                  f"{jpeg['bytes_mean'] / bytes_h264:.2f}x fewer bytes "
+                  f"({jpeg['bytes_mean'] / bytes_at_ssim:.2f}x at equal SSIM)")
     with open(os.path.join(a.out, "codec_bench.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(table[0].keys()))
         w.writeheader()
         w.writerows(table)
     with open(os.path.join(a.out, "codec_equal_psnr.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["size", "h264", "psnr_db", "jpeg_q90_bytes", "jpeg_q90_ms", "h264_bytes", "h264_ms",
-                    "bytes_ratio"])
+        w.writerow(["size", "h264", "psnr_db", "jpeg_q90_bytes", "jpeg_q90_ms", "jpeg_q90_ssim",
+                    "h264_bytes", "h264_ms", "h264_ssim", "bytes_ratio", "bytes_ratio_equal_ssim"])
         w.writerows(summary)
     plot(a.out, table)
 
 
 def plot(out, table):
     data = os.path.join(out, "codec_bench.dat")
+    codecs = ("jpeg", "h264", "h264-veryfast", "h264-psnr")
     with open(data, "w") as f:
-        for codec in ("jpeg", "h264", "h264-psnr"):
+        for codec in codecs:
             for size in ((320, 180), (640, 360)):
                 f.write(f"# {codec} {size[0]}x{size[1]}\n")
                 for r in sorted((r for r in table if r["codec"] == codec and
                                  r["width"] == size[0]), key=lambda r: r["bytes_mean"]):
-                    f.write(f"{r['bytes_mean'] / 1024:.3f} {r['psnr_mean']:.3f}\n")
+                    f.write(f"{r['bytes_mean'] / 1024:.3f} {r['psnr_mean']:.3f} "
+                            f"{r['ssim_mean']:.5f}\n")
                 f.write("\n\n")
+    titles = ("JPEG", "H.264 stream (faster)", "H.264 veryfast (before)", "H.264 psnr tune")
+    curves = ", ".join(f"'{data}' index {2 * i + j} using 1:COLUMN with linespoints dt {1 + j} "
+                       f"lc {i + 1} title '{titles[i]} {size}'"
+                       for i in range(len(codecs)) for j, size in enumerate(("320x180", "640x360")))
     png = os.path.join(out, "codec_bench.png")
-    subprocess.run(["gnuplot", "-e", f"""set terminal pngcairo size 720,420; set output '{png}';
-        set logscale x; set xlabel 'KiB per frame'; set ylabel 'PSNR (dB) against the frame sent';
-        set key bottom right; set grid;
-        set title 'JPEG (q 50-95) vs H.264 (CRF 9-30, veryfast, high, 1 thread): demo frames';
-        plot '{data}' index 0 with linespoints title 'JPEG 320x180',
-             '' index 1 with linespoints title 'JPEG 640x360',
-             '' index 2 with linespoints title 'H.264 320x180',
-             '' index 3 with linespoints title 'H.264 640x360',
-             '' index 4 with linespoints dt 2 title 'H.264 psnr tune 320x180',
-             '' index 5 with linespoints dt 2 title 'H.264 psnr tune 640x360'"""], check=True)
+    subprocess.run(["gnuplot", "-e", f"""set terminal pngcairo size 1200,460; set output '{png}';
+        set multiplot layout 1,2 title 'JPEG (q 50-95) vs H.264 (CRF 9-30, 1 thread): demo frames';
+        set logscale x; set xlabel 'KiB per frame'; set key bottom right font ',8'; set grid;
+        set ylabel 'PSNR (dB) against the frame sent';
+        plot {curves.replace('COLUMN', '2')};
+        set ylabel 'SSIM (luma) against the frame sent';
+        plot {curves.replace('COLUMN', '3')};
+        unset multiplot"""], check=True)
     os.remove(data)
 
 

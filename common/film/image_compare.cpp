@@ -33,9 +33,8 @@ double relative_mse(const FloatImage& a, const FloatImage& reference, double eps
 
 namespace {
 
-// Luma in [0, 1] of the tonemapped sRGB bytes.
-std::vector<double> display_luma(const FloatImage& image) {
-    const std::vector<uint8_t> srgb = tonemap_to_srgb8(image);
+// Luma in [0, 1] of sRGB bytes.
+std::vector<double> display_luma(const std::vector<uint8_t>& srgb) {
     std::vector<double> luma(srgb.size() / 3);
     for (std::size_t i = 0; i < luma.size(); ++i)
         luma[i] = (0.299 * srgb[3 * i] + 0.587 * srgb[3 * i + 1] + 0.114 * srgb[3 * i + 2]) / 255.0;
@@ -70,13 +69,8 @@ std::vector<double> gaussian(const std::vector<double>& v, int w, int h) {
     return out;
 }
 
-}  // namespace
-
-double ssim(const FloatImage& a, const FloatImage& reference) {
-    PF_CHECK_EQ(a.rgb.size(), reference.rgb.size());
-    const int w = a.width, h = a.height;
-    if (a.rgb.empty()) return 1.0;
-    const std::vector<double> x = display_luma(a), y = display_luma(reference);
+// SSIM of two luma planes (w x h, values in [0, 1]).
+double ssim_of_luma(const std::vector<double>& x, const std::vector<double>& y, int w, int h) {
     std::vector<double> xx(x.size()), yy(x.size()), xy(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) {
         xx[i] = x[i] * x[i];
@@ -95,6 +89,22 @@ double ssim(const FloatImage& a, const FloatImage& reference) {
                ((mx[i] * mx[i] + my[i] * my[i] + kC1) * (vx + vy + kC2));
     }
     return sum / double(x.size());
+}
+
+}  // namespace
+
+double ssim(const FloatImage& a, const FloatImage& reference) {
+    PF_CHECK_EQ(a.rgb.size(), reference.rgb.size());
+    if (a.rgb.empty()) return 1.0;
+    return ssim_of_luma(display_luma(tonemap_to_srgb8(a)),
+                        display_luma(tonemap_to_srgb8(reference)), a.width, a.height);
+}
+
+double ssim8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& reference, int width,
+             int height) {
+    PF_CHECK(a.size() == reference.size() && a.size() == std::size_t(width) * height * 3);
+    if (a.empty()) return 1.0;
+    return ssim_of_luma(display_luma(a), display_luma(reference), width, height);
 }
 
 double psnr8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& reference) {

@@ -18,6 +18,10 @@ double relative_mse(const FloatImage& a, const FloatImage& reference, double eps
 // their tonemapped sRGB values in [0, 1], an 11x11 Gaussian window (sigma 1.5) clipped at the
 // borders, the paper's constants. 1 for identical images. Same size required.
 double ssim(const FloatImage& a, const FloatImage& reference);
+// The same of two sRGB frames of 8-bit values (width*height*3): what a codec's decoder shows
+// against what it was given.
+double ssim8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& reference, int width,
+             int height);
 
 // Peak signal-to-noise ratio in dB of 8-bit values (what a codec is judged by): 10 log10(255^2 /
 // MSE) over every byte; infinity for identical inputs. Same size required.

@@ -25,14 +25,6 @@ PlayerInput player_input(const wire::Input& in) {
 
 uint16_t clamp16(int v) { return uint16_t(std::clamp(v, 0, 65535)); }
 
-// The H.264 stream (docs/web.md, "H.264"): x264's veryfast preset with the high profile
-// (CABAC, 8x8 transforms) and zerolatency; CRF 18 is about JPEG q90's PSNR on the demo's
-// frames at 320x180 (bench/codec_bench.py). An IDR frame every 10 s at 10 frames/s, and
-// whenever a browser joins or lost a picture.
-H264Settings h264_stream(int width, int height) {
-    return {width, height, 10.0, 100, 18, 1, "veryfast", "high", "zerolatency"};
-}
-
 }  // namespace
 
 void ClientHub::add(std::shared_ptr<net::Session> s) {
@@ -134,7 +126,7 @@ std::optional<H264Picture> ClientHub::encode_h264(const FloatImage& image, bool 
     if (h264_failed_) return std::nullopt;
     if (!h264_ || h264_->settings().width != image.width ||
         h264_->settings().height != image.height) {
-        auto opened = H264Encoder::open(h264_stream(image.width, image.height));
+        auto opened = H264Encoder::open(h264_stream_settings(image.width, image.height));
         if (!opened) {
             spdlog::error("{}: browsers get JPEG", opened.error().message);
             h264_failed_ = true;

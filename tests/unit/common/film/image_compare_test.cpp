@@ -89,5 +89,17 @@ TEST(Ssim, IsOneForTheSameImageSymmetricAndFallsWithNoise) {
     }
 }
 
+// A decoded frame is judged by its bytes: ssim8 is SSIM of the frames the bytes are.
+TEST(Ssim8, MatchesSsimOfTheSameFrames) {
+    std::mt19937 rng(21);
+    for (int trial = 0; trial < 4; ++trial) {
+        const int w = 8 + int(rng() % 30), h = 8 + int(rng() % 30);
+        const FloatImage a = random_image(w, h, rng), b = noisy(a, 0.1f + 0.2f * trial, rng);
+        const std::vector<uint8_t> a8 = tonemap_to_srgb8(a), b8 = tonemap_to_srgb8(b);
+        EXPECT_NEAR(ssim8(b8, a8, w, h), direct_ssim(b, a), 1e-9) << w << "x" << h;
+        EXPECT_NEAR(ssim8(a8, a8, w, h), 1.0, 1e-12);
+    }
+}
+
 }  // namespace
 }  // namespace pathfarm
