@@ -62,6 +62,8 @@ LightBounds union_bounds(const LightBounds& a, const LightBounds& b) {
     union_cone(a.axis, a.cos_theta_o, b.axis, b.cos_theta_o, u.axis, u.cos_theta_o);
     u.power = a.power + b.power;
     u.two_sided = a.two_sided || b.two_sided;
+    u.power_normal = a.power_normal + b.power_normal;
+    u.two_sided_power = a.two_sided_power + b.two_sided_power;
     return u;
 }
 
@@ -79,6 +81,10 @@ PackedLightBounds pack(const LightBounds& b) {
     packed.sin_theta_o = detail::safe_sqrt(1.0f - b.cos_theta_o * b.cos_theta_o);
     packed.power = b.box.empty() ? 0.0f : b.power;
     packed.flags = b.two_sided ? kPackedTwoSided : 0u;
+    const float inv_power = packed.power > 0.0f ? 1.0f / b.power : 0.0f;
+    for (int k = 0; k < 3; ++k)
+        packed.mean_normal[k] = b.power_normal[k] * inv_power;
+    packed.two_sided_share = b.two_sided_power * inv_power;
     return packed;
 }
 
@@ -93,6 +99,10 @@ LightBounds triangle_light_bounds(const Vec3& p0, const Vec3& p1, const Vec3& p2
     b.cos_theta_o = len > 0.0f ? 1.0f : -1.0f;
     b.power = power;
     b.two_sided = two_sided;
+    if (two_sided)
+        b.two_sided_power = power;
+    else
+        b.power_normal = power * b.axis;
     return b;
 }
 

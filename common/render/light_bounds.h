@@ -8,6 +8,14 @@
 // group: power over squared distance, times the cosine of the smallest angle any emitter in
 // the group can make with the direction to p, times the receiver's best cosine. It is zero only
 // where no emitter in the group can light p, which keeps next-event estimation unbiased.
+//
+// estimate() guesses the light itself instead: the group's power-weighted mean cosine towards p
+// (exact for one-sided emitters that all face p, half the power for two-sided ones unless the
+// group is one emitter), the receiver's cosine towards the group's centre, the squared distance
+// to that centre (held above a quarter of the bounding radius squared). Where receivers sit
+// among large groups (a room lined with lights), the bound says little more than "power over
+// radius squared": the ceiling above a floor point and the walls beside it look alike to it,
+// while the estimate sees that the walls' emitters face sideways (docs/rendering.md, "Lights").
 #pragma once
 
 #include <algorithm>
@@ -24,6 +32,11 @@ struct LightBounds {
     float cos_theta_o = 1.0f;     // every normal lies within this angle of the axis
     float power = 0.0f;
     bool two_sided = false;
+    // What the group emits on average, for estimate() (the bound above says only what it could
+    // emit at most): the sum over its one-sided emitters of power x normal, and the power of
+    // its two-sided ones.
+    Vec3 power_normal{0.0f};
+    float two_sided_power = 0.0f;
 };
 
 // The normal cone of two groups (the smallest cone around both, or the whole sphere).
@@ -38,7 +51,9 @@ struct PackedLightBounds {
     float center[3], radius2;
     float axis[3], cos_theta_o;
     float sin_theta_o, power;
-    uint32_t flags;  // kPackedTwoSided; the other bits are the container's (LightTree)
+    uint32_t flags;         // kPackedTwoSided; the other bits are the container's (LightTree)
+    float mean_normal[3];   // power_normal / power
+    float two_sided_share;  // two_sided_power / power
 };
 inline constexpr uint32_t kPackedTwoSided = 1;
 PackedLightBounds pack(const LightBounds& b);
@@ -78,11 +93,29 @@ inline float importance(const PackedLightBounds& b, const Vec3& p, const Vec3& n
     }
     const float cos_x = cos_subtract_clamped(cos_wo, sin_wo, cos_b, sin_b);
     if (!(cos_x > 0.0f)) return 0.0f;
-    float result = b.power * cos_x / std::max({dist2, b.radius2, 1e-20f});
+    float result = b.power * cos_x / std::max({dist2, 0.25f * b.radius2, 1e-20f});
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {  // the receiver's best cosine
         const float cos_i = std::abs(glm::dot(to_p, n)) * inv_dist;
         if (cos_i < cos_b) result *= cos_i * cos_b + safe_sqrt(1.0f - cos_i * cos_i) * sin_b;
     }
+    return std::isfinite(result) ? result : 0.0f;
+}
+
+// The estimate (see above), inline like importance(); zero where importance() is. `single`: the
+// bounds are one emitter's (a two-sided one then emits |cos| exactly, not half on average).
+inline float estimate(const PackedLightBounds& b, const Vec3& p, const Vec3& n, bool single) {
+    if (!(importance(b, p, n) > 0.0f)) return 0.0f;
+    const Vec3 to_p(p.x - b.center[0], p.y - b.center[1], p.z - b.center[2]);
+    const float dist2 = glm::dot(to_p, to_p);
+    const float inv_dist = dist2 > 0.0f ? 1.0f / std::sqrt(dist2) : 0.0f;
+    const Vec3 w = to_p * inv_dist;
+    const float one_sided =
+        b.mean_normal[0] * w.x + b.mean_normal[1] * w.y + b.mean_normal[2] * w.z;
+    const float two_sided =
+        single ? std::abs(b.axis[0] * w.x + b.axis[1] * w.y + b.axis[2] * w.z) : 0.5f;
+    float result = b.power * (std::max(0.0f, one_sided) + b.two_sided_share * two_sided) /
+                   std::max({dist2, 0.25f * b.radius2, 1e-20f});
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= std::abs(glm::dot(w, n));
     return std::isfinite(result) ? result : 0.0f;
 }
 

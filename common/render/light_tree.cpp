@@ -39,6 +39,9 @@ PackedLightBounds slot_bounds(const LightTree::WideNode& w, int k) {
     b.sin_theta_o = w.sin_theta_o[k];
     b.power = w.power[k];
     b.flags = w.flags[k];
+    for (int a = 0; a < 3; ++a)
+        b.mean_normal[a] = w.mean_normal[a][k];
+    b.two_sided_share = w.two_sided_share[k];
     return b;
 }
 
@@ -86,7 +89,8 @@ void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n,
     const __m128 cos_x = sel(_mm_cmpge_ps(cos_wo, cos_b), one,
                              _mm_add_ps(_mm_mul_ps(cos_wo, cos_b), _mm_mul_ps(sin_wo, sin_b)));
     const __m128 power = _mm_loadu_ps(w.power);
-    const __m128 floor2 = _mm_max_ps(_mm_max_ps(dist2, r2), _mm_set1_ps(1e-20f));
+    const __m128 floor2 =
+        _mm_max_ps(_mm_max_ps(dist2, _mm_mul_ps(_mm_set1_ps(0.25f), r2)), _mm_set1_ps(1e-20f));
     __m128 result = _mm_div_ps(_mm_mul_ps(power, cos_x), floor2);
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {  // the receiver's best cosine
         const __m128 cos_i = _mm_mul_ps(
@@ -104,10 +108,62 @@ void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n,
                    _mm_cmplt_ps(result, _mm_set1_ps(INFINITY)));
     _mm_storeu_ps(out, _mm_and_ps(valid, result));
 }
+
+// estimate() (light_bounds.h) for the four slots at once, lane by lane as importance() above.
+void wide_estimate(const LightTree::WideNode& w, const Vec3& p, const Vec3& n,
+                   const float importance[4], float out[4]) {
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const auto dot = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
+    };
+    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_loadu_ps(w.center[0]));
+    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_loadu_ps(w.center[1]));
+    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_loadu_ps(w.center[2]));
+    const __m128 dist2 = dot(tx, ty, tz, tx, ty, tz);
+    const __m128 inv_dist =
+        _mm_and_ps(_mm_cmpgt_ps(dist2, zero), _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(dist2)));
+    const __m128 wx = _mm_mul_ps(tx, inv_dist), wy = _mm_mul_ps(ty, inv_dist),
+                 wz = _mm_mul_ps(tz, inv_dist);
+    const __m128 one_sided = dot(_mm_loadu_ps(w.mean_normal[0]), _mm_loadu_ps(w.mean_normal[1]),
+                                 _mm_loadu_ps(w.mean_normal[2]), wx, wy, wz);
+    const __m128 axis_cos = _mm_and_ps(
+        dot(_mm_loadu_ps(w.axis[0]), _mm_loadu_ps(w.axis[1]), _mm_loadu_ps(w.axis[2]), wx, wy, wz),
+        abs_mask);
+    const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(w.flags));
+    const __m128i single_bits = _mm_set1_epi32(int(LightTree::kLeaf | LightTree::kPair));
+    const __m128 single = _mm_castsi128_ps(
+        _mm_cmpeq_epi32(_mm_and_si128(flags, single_bits), _mm_set1_epi32(int(LightTree::kLeaf))));
+    const __m128 two_sided =
+        _mm_or_ps(_mm_and_ps(single, axis_cos), _mm_andnot_ps(single, _mm_set1_ps(0.5f)));
+    const __m128 emitted = _mm_add_ps(_mm_max_ps(zero, one_sided),
+                                      _mm_mul_ps(_mm_loadu_ps(w.two_sided_share), two_sided));
+    const __m128 floor2 =
+        _mm_max_ps(_mm_max_ps(dist2, _mm_mul_ps(_mm_set1_ps(0.25f), _mm_loadu_ps(w.radius2))),
+                   _mm_set1_ps(1e-20f));
+    __m128 result = _mm_div_ps(_mm_mul_ps(_mm_loadu_ps(w.power), emitted), floor2);
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f)  // the receiver's cosine
+        result = _mm_mul_ps(result, _mm_and_ps(dot(wx, wy, wz, _mm_set1_ps(n.x), _mm_set1_ps(n.y),
+                                                   _mm_set1_ps(n.z)),
+                                               abs_mask));
+    const __m128 valid = _mm_and_ps(_mm_cmpgt_ps(_mm_loadu_ps(importance), zero),
+                                    _mm_cmplt_ps(result, _mm_set1_ps(INFINITY)));
+    _mm_storeu_ps(out, _mm_and_ps(valid, result));
+}
 #else
 void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float out[4]) {
     for (int k = 0; k < LightTree::kWidth; ++k)
         out[k] = importance(slot_bounds(w, k), p, n);
+}
+
+void wide_estimate(const LightTree::WideNode& w, const Vec3& p, const Vec3& n,
+                   const float importance[4], float out[4]) {
+    for (int k = 0; k < LightTree::kWidth; ++k) {
+        // A slot holding one emitter (a leaf, not a pair): its two-sided emission is exact.
+        const bool single =
+            (w.flags[k] & (LightTree::kLeaf | LightTree::kPair)) == LightTree::kLeaf;
+        out[k] = importance[k] > 0.0f ? estimate(slot_bounds(w, k), p, n, single) : 0.0f;
+    }
 }
 #endif
 
@@ -140,6 +196,9 @@ uint32_t LightTree::collapse(uint32_t b, int depth, uint64_t trail) {
         wide_[at].cos_theta_o[k] = s.cos_theta_o;
         wide_[at].sin_theta_o[k] = s.sin_theta_o;
         wide_[at].power[k] = s.power;
+        for (int a = 0; a < 3; ++a)
+            wide_[at].mean_normal[a][k] = s.mean_normal[a];
+        wide_[at].two_sided_share[k] = s.two_sided_share;
         wide_[at].flags[k] = s.flags;
         wide_source_[at][std::size_t(k)] = g;
         const uint64_t path = trail | (uint64_t(k) << (2 * depth));
@@ -168,14 +227,24 @@ LightBounds LightTree::bounds(std::size_t wide_node, int slot) const {
     return full_[wide_source_[wide_node][std::size_t(slot)]];
 }
 
-// The four slots' weights (importance, or power where importance says nothing: every weight
-// zero, or below a distant node) and their sum; zero when nothing there emits.
+// The four slots' weights and their sum; zero when nothing there emits. The weight is the mean
+// of the slot's share of the importance bound and its share of the estimate (light_tree.h), or
+// its power where importance says nothing (every bound zero, or below a distant node).
 float LightTree::slot_weights(const WideNode& w, const Vec3& p, const Vec3& n, bool& by_power,
                               float weight[kWidth]) const {
     if (!by_power) {
         wide_importance(w, p, n, weight);
         const float total = (weight[0] + weight[1]) + (weight[2] + weight[3]);
-        if (total > 0.0f) return total;
+        if (total > 0.0f) {
+            float guess[kWidth];
+            wide_estimate(w, p, n, weight, guess);
+            const float guessed = (guess[0] + guess[1]) + (guess[2] + guess[3]);
+            if (!(guessed > 0.0f)) return total;
+            const float a = 0.5f / total, b = 0.5f / guessed;
+            for (int k = 0; k < kWidth; ++k)
+                weight[k] = a * weight[k] + b * guess[k];
+            return (weight[0] + weight[1]) + (weight[2] + weight[3]);
+        }
         by_power = true;
     }
     for (int k = 0; k < kWidth; ++k)

@@ -2,7 +2,10 @@
 // & Kulla 2018; pbrt-v4's BVHLightSampler; Cycles' light tree): each node bounds its emitters'
 // positions, normals and power (LightBounds), and a shading point descends from the root
 // choosing each child in proportion to its importance, so lights that are near and face the
-// point are chosen far more often than power alone would. pmf() retraces an emitter's path
+// point are chosen far more often than power alone would. A child's probability is the mean of
+// two: by the importance bound, and by an estimate of its light (light_bounds.h), the bound
+// keeping every emitter that can light the point reachable, the estimate telling apart groups
+// the bound cannot. pmf() retraces an emitter's path
 // from the root for multiple importance sampling. Built with the surface-area-orientation
 // heuristic over 12 buckets per axis; refit() keeps the topology for moved or switched
 // emitters, and cost() tells how much a refit has let the tree's quality degrade.
@@ -41,8 +44,9 @@ public:
         float radius2[4];
         float axis[3][4];
         float cos_theta_o[4], sin_theta_o[4], power[4];
-        uint32_t flags[4];  // kPackedTwoSided, kLeaf, kPair
-        uint32_t child[4];  // a wide node, or a leaf's (first) emitter
+        float mean_normal[3][4], two_sided_share[4];  // what estimate() reads
+        uint32_t flags[4];                            // kPackedTwoSided, kLeaf, kPair
+        uint32_t child[4];                            // a wide node, or a leaf's (first) emitter
     };
     static constexpr int kWidth = 4;
 
@@ -130,5 +134,8 @@ private:
 PackedLightBounds slot_bounds(const LightTree::WideNode& node, int k);
 // importance() of all four slots at once (SIMD where the machine has it), as the descent uses.
 void wide_importance(const LightTree::WideNode& node, const Vec3& p, const Vec3& n, float out[4]);
+// estimate() of all four slots at once, given their importance() (zero there: zero here).
+void wide_estimate(const LightTree::WideNode& node, const Vec3& p, const Vec3& n,
+                   const float importance[4], float out[4]);
 
 }  // namespace pathfarm

@@ -48,12 +48,16 @@ static_assert(sizeof(PfLightNode) == sizeof(LightTree::WideNode) &&
                   PF_LIGHT_DISTANT_COS == LightTree::kDistantCos,
               "PfLightNode mirrors LightTree::WideNode");
 static_assert(offsetof(PfLightNode, power) == offsetof(LightTree::WideNode, power) &&
+                  offsetof(PfLightNode, mean_normal) ==
+                      offsetof(LightTree::WideNode, mean_normal) &&
+                  offsetof(PfLightNode, two_sided_share) ==
+                      offsetof(LightTree::WideNode, two_sided_share) &&
                   offsetof(PfLightNode, flags) == offsetof(LightTree::WideNode, flags) &&
                   offsetof(PfLightNode, child) == offsetof(LightTree::WideNode, child),
               "PfLightNode's fields where LightTree::WideNode has them");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
                   sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 6 * 4 &&
-                  sizeof(PfLight) == 20 * 4 && sizeof(PfLightNode) == 48 * 4 &&
+                  sizeof(PfLight) == 20 * 4 && sizeof(PfLightNode) == 64 * 4 &&
                   sizeof(PfSceneGlobals) == (42 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
               "device structs are packed 4-byte fields (device_types.h)");

@@ -60,9 +60,9 @@ bool pf_lights_empty(__global const PfSceneGlobals* g) {
     return g->light_count == 0 && g->has_environment == 0u;
 }
 
-// The light tree (common/render/light_tree.cpp, light_bounds.h): the same importance bound
-// per slot of a wide node, descent and distant-node switch to power, so both backends choose
-// emitters alike.
+// The light tree (common/render/light_tree.cpp, light_bounds.h): the same importance bound and
+// estimate per slot of a wide node, their mean, descent and distant-node switch to power, so
+// both backends choose emitters alike.
 float pf_cos_subtract_clamped(float cos_a, float sin_a, float cos_b, float sin_b) {
     return cos_a >= cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
 }
@@ -91,11 +91,30 @@ float pf_light_importance(__global const PfLightNode* b, int k, float3 p, float3
     }
     const float cos_x = pf_cos_subtract_clamped(cos_wo, sin_wo, cos_b, sin_b);
     if (!(cos_x > 0.0f)) return 0.0f;
-    float result = power * cos_x / fmax(fmax(dist2, radius2), 1e-20f);
+    float result = power * cos_x / fmax(fmax(dist2, 0.25f * radius2), 1e-20f);
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
         const float cos_i = fabs(dot(to_p, n)) * inv_dist;
         if (cos_i < cos_b) result *= cos_i * cos_b + sqrt(fmax(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
     }
+    return isfinite(result) ? result : 0.0f;
+}
+
+// estimate() (light_bounds.h) of slot k, zero where its importance is.
+float pf_light_estimate(__global const PfLightNode* b, int k, float3 p, float3 n,
+                        float importance) {
+    if (!(importance > 0.0f)) return 0.0f;
+    const float3 to_p = p - (float3)(b->center[0][k], b->center[1][k], b->center[2][k]);
+    const float dist2 = dot(to_p, to_p);
+    const float inv_dist = dist2 > 0.0f ? 1.0f / sqrt(dist2) : 0.0f;
+    const float3 w = to_p * inv_dist;
+    const float one_sided =
+        dot((float3)(b->mean_normal[0][k], b->mean_normal[1][k], b->mean_normal[2][k]), w);
+    const bool single = (b->flags[k] & (PF_LIGHT_LEAF | PF_LIGHT_PAIR)) == PF_LIGHT_LEAF;
+    const float two_sided =
+        single ? fabs(dot((float3)(b->axis[0][k], b->axis[1][k], b->axis[2][k]), w)) : 0.5f;
+    float result = b->power[k] * (fmax(0.0f, one_sided) + b->two_sided_share[k] * two_sided) /
+                   fmax(fmax(dist2, 0.25f * b->radius2[k]), 1e-20f);
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= fabs(dot(w, n));
     return isfinite(result) ? result : 0.0f;
 }
 
@@ -122,7 +141,17 @@ float pf_slot_weights(__global const PfLightNode* b, float3 p, float3 n, bool* b
         for (int k = 0; k < 4; ++k)
             weight[k] = pf_light_importance(b, k, p, n);
         const float total = (weight[0] + weight[1]) + (weight[2] + weight[3]);
-        if (total > 0.0f) return total;
+        if (total > 0.0f) {
+            float guess[4];
+            for (int k = 0; k < 4; ++k)
+                guess[k] = pf_light_estimate(b, k, p, n, weight[k]);
+            const float guessed = (guess[0] + guess[1]) + (guess[2] + guess[3]);
+            if (!(guessed > 0.0f)) return total;
+            const float a = 0.5f / total, c = 0.5f / guessed;
+            for (int k = 0; k < 4; ++k)
+                weight[k] = a * weight[k] + c * guess[k];
+            return (weight[0] + weight[1]) + (weight[2] + weight[3]);
+        }
         *by_power = true;
     }
     for (int k = 0; k < 4; ++k)

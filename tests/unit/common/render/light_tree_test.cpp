@@ -270,10 +270,11 @@ TEST(LightTree, AQuadLightIsOneLeafChosenByPower) {
     }
 }
 
-// The descent weighs four slots at once (SIMD); each weight must be importance() of that slot:
-// random bounds (inside and outside their spheres, two-sided, empty, tiny and huge), random
-// receivers with and without a normal.
-TEST(LightTree, WideImportanceIsTheScalarImportanceOfEachSlot) {
+// The descent weighs four slots at once (SIMD); each weight must be importance() and estimate()
+// of that slot: random bounds (inside and outside their spheres, two-sided, empty, tiny and
+// huge, mixed one- and two-sided power, single emitters and groups), random receivers with and
+// without a normal.
+TEST(LightTree, WideImportanceAndEstimateAreTheScalarOnesOfEachSlot) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int i = 0; i < 20000; ++i) {
@@ -289,15 +290,29 @@ TEST(LightTree, WideImportanceIsTheScalarImportanceOfEachSlot) {
             w.cos_theta_o[k] = u(rng) < 0.3f ? 1.0f : 2.0f * u(rng) - 1.0f;
             w.sin_theta_o[k] = std::sqrt(1.0f - w.cos_theta_o[k] * w.cos_theta_o[k]);
             w.power[k] = u(rng) < 0.15f ? 0.0f : std::pow(10.0f, -3.0f + 6.0f * u(rng));
-            w.flags[k] = u(rng) < 0.3f ? kPackedTwoSided : 0u;
+            w.flags[k] = (u(rng) < 0.3f ? kPackedTwoSided : 0u) |
+                         (u(rng) < 0.5f ? LightTree::kLeaf : 0u) |
+                         (u(rng) < 0.3f ? LightTree::kPair : 0u);
+            const Vec3 m = u(rng) * random_direction(rng);
+            for (int d = 0; d < 3; ++d)
+                w.mean_normal[d][k] = m[d];
+            w.two_sided_share[k] = u(rng) < 0.5f ? 0.0f : u(rng);
         }
         const Vec3 p = scale * Vec3(2.0f * u(rng), 2.0f * u(rng), 2.0f * u(rng)) - Vec3(scale / 2);
         const Vec3 n = u(rng) < 0.2f ? Vec3(0.0f) : random_direction(rng);
-        float wide[LightTree::kWidth];
+        float wide[LightTree::kWidth], guess[LightTree::kWidth];
         wide_importance(w, p, n, wide);
+        wide_estimate(w, p, n, wide, guess);
         for (int k = 0; k < LightTree::kWidth; ++k) {
             const float scalar = importance(slot_bounds(w, k), p, n);
             ASSERT_NEAR(wide[k], scalar, 1e-6f * scalar) << "case " << i << " slot " << k;
+            const bool single =
+                (w.flags[k] & (LightTree::kLeaf | LightTree::kPair)) == LightTree::kLeaf;
+            const float estimated = estimate(slot_bounds(w, k), p, n, single);
+            ASSERT_NEAR(guess[k], estimated, 1e-5f * estimated) << "case " << i << " slot " << k;
+            if (scalar == 0.0f) {
+                ASSERT_EQ(guess[k], 0.0f) << "case " << i << " slot " << k;
+            }
         }
     }
 }
