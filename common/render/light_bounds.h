@@ -108,14 +108,15 @@ inline float estimate(const PackedLightBounds& b, const Vec3& p, const Vec3& n, 
     const Vec3 to_p(p.x - b.center[0], p.y - b.center[1], p.z - b.center[2]);
     const float dist2 = glm::dot(to_p, to_p);
     const float inv_dist = dist2 > 0.0f ? 1.0f / std::sqrt(dist2) : 0.0f;
-    const Vec3 w = to_p * inv_dist;
     const float one_sided =
-        b.mean_normal[0] * w.x + b.mean_normal[1] * w.y + b.mean_normal[2] * w.z;
+        (b.mean_normal[0] * to_p.x + b.mean_normal[1] * to_p.y + b.mean_normal[2] * to_p.z) *
+        inv_dist;
     const float two_sided =
-        single ? std::abs(b.axis[0] * w.x + b.axis[1] * w.y + b.axis[2] * w.z) : 0.5f;
+        single ? std::abs(b.axis[0] * to_p.x + b.axis[1] * to_p.y + b.axis[2] * to_p.z) * inv_dist
+               : 0.5f;
     float result = b.power * (std::max(0.0f, one_sided) + b.two_sided_share * two_sided) /
                    std::max({dist2, 0.25f * b.radius2, 1e-20f});
-    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= std::abs(glm::dot(w, n));
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= std::abs(glm::dot(to_p, n)) * inv_dist;
     return std::isfinite(result) ? result : 0.0f;
 }
 

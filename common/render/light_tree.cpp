@@ -46,123 +46,123 @@ PackedLightBounds slot_bounds(const LightTree::WideNode& w, int k) {
 }
 
 #if defined(__SSE2__)
-// importance() (light_bounds.h) for the four slots at once: the same operations in the same
-// order, lane by lane, with branches turned into selects; lanes that importance() would leave
-// early are zeroed at the end.
-void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float out[4]) {
+namespace {
+
+__m128 select(__m128 mask, __m128 a, __m128 b) {
+    return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+__m128 safe_sqrt(__m128 x) { return _mm_sqrt_ps(_mm_max_ps(_mm_setzero_ps(), x)); }
+__m128 dot(__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
+}
+__m128 abs_value(__m128 x) { return _mm_and_ps(x, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff))); }
+__m128 load(const float (&v)[4]) { return _mm_loadu_ps(v); }
+// Lanes whose flags hold `value` in the bits `mask`.
+__m128 flags_equal(const uint32_t (&flags)[4], uint32_t mask, uint32_t value) {
+    const __m128i f = _mm_loadu_si128(reinterpret_cast<const __m128i*>(flags));
+    return _mm_castsi128_ps(
+        _mm_cmpeq_epi32(_mm_and_si128(f, _mm_set1_epi32(int(mask))), _mm_set1_epi32(int(value))));
+}
+
+// What importance() and estimate() share: from each slot's centre to p, and the receiver's
+// cosine towards the centre (1 without a normal).
+struct Lanes {
+    __m128 tx, ty, tz, dist2, inv_dist, floor2, cos_i;
+    bool receiver;
+};
+
+Lanes lanes(const LightTree::WideNode& w, const Vec3& p, const Vec3& n) {
+    Lanes l;
+    l.tx = _mm_sub_ps(_mm_set1_ps(p.x), load(w.center[0]));
+    l.ty = _mm_sub_ps(_mm_set1_ps(p.y), load(w.center[1]));
+    l.tz = _mm_sub_ps(_mm_set1_ps(p.z), load(w.center[2]));
+    l.dist2 = dot(l.tx, l.ty, l.tz, l.tx, l.ty, l.tz);
+    l.inv_dist = _mm_and_ps(_mm_cmpgt_ps(l.dist2, _mm_setzero_ps()),
+                            _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(l.dist2)));
+    l.floor2 = _mm_max_ps(_mm_max_ps(l.dist2, _mm_mul_ps(_mm_set1_ps(0.25f), load(w.radius2))),
+                          _mm_set1_ps(1e-20f));
+    l.receiver = n.x != 0.0f || n.y != 0.0f || n.z != 0.0f;
+    l.cos_i = _mm_set1_ps(1.0f);
+    if (l.receiver)
+        l.cos_i = _mm_mul_ps(
+            abs_value(dot(l.tx, l.ty, l.tz, _mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z))),
+            l.inv_dist);
+    return l;
+}
+
+// importance() lane by lane, the same operations in the same order, branches as selects; the
+// caller zeroes the lanes importance() would leave early (cos_x not positive).
+__m128 bound_lanes(const LightTree::WideNode& w, const Lanes& l, __m128 axis_cos, __m128& cos_x) {
     const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-    const auto sel = [](__m128 mask, __m128 a, __m128 b) {
-        return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
-    };
-    const auto safe_sqrt = [&](__m128 x) { return _mm_sqrt_ps(_mm_max_ps(zero, x)); };
-    const auto dot = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
-        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
-    };
-    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_loadu_ps(w.center[0]));
-    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_loadu_ps(w.center[1]));
-    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_loadu_ps(w.center[2]));
-    const __m128 dist2 = dot(tx, ty, tz, tx, ty, tz);
-    const __m128 inv_dist =
-        _mm_and_ps(_mm_cmpgt_ps(dist2, zero), _mm_div_ps(one, _mm_sqrt_ps(dist2)));
-    const __m128 r2 = _mm_loadu_ps(w.radius2);
-    const __m128 outside = _mm_cmpgt_ps(dist2, r2);
-    const __m128 sin2 = _mm_mul_ps(_mm_mul_ps(r2, inv_dist), inv_dist);
+    const __m128 r2 = load(w.radius2);
+    const __m128 outside = _mm_cmpgt_ps(l.dist2, r2);
+    const __m128 sin2 = _mm_mul_ps(_mm_mul_ps(r2, l.inv_dist), l.inv_dist);
     const __m128 sin_b = _mm_and_ps(outside, _mm_sqrt_ps(sin2));
-    const __m128 cos_b = sel(outside, safe_sqrt(_mm_sub_ps(one, sin2)), _mm_set1_ps(-1.0f));
-    __m128 cos_w = _mm_mul_ps(
-        dot(_mm_loadu_ps(w.axis[0]), _mm_loadu_ps(w.axis[1]), _mm_loadu_ps(w.axis[2]), tx, ty, tz),
-        inv_dist);
-    const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(w.flags));
-    const __m128 two_sided =
-        _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(flags, _mm_set1_epi32(int(kPackedTwoSided))),
-                                         _mm_set1_epi32(int(kPackedTwoSided))));
-    cos_w = sel(two_sided, _mm_and_ps(cos_w, abs_mask), cos_w);
-    const __m128 cos_o = _mm_loadu_ps(w.cos_theta_o), sin_o = _mm_loadu_ps(w.sin_theta_o);
+    const __m128 cos_b = select(outside, safe_sqrt(_mm_sub_ps(one, sin2)), _mm_set1_ps(-1.0f));
+    const __m128 cos_w = select(flags_equal(w.flags, kPackedTwoSided, kPackedTwoSided),
+                                abs_value(axis_cos), axis_cos);
+    const __m128 cos_o = load(w.cos_theta_o), sin_o = load(w.sin_theta_o);
     const __m128 outside_cone = _mm_cmplt_ps(cos_w, cos_o);
     const __m128 sin_w = safe_sqrt(_mm_sub_ps(one, _mm_mul_ps(cos_w, cos_w)));
     const __m128 cos_wo =
-        sel(outside_cone, _mm_add_ps(_mm_mul_ps(cos_w, cos_o), _mm_mul_ps(sin_w, sin_o)), one);
-    const __m128 sin_wo =
-        sel(outside_cone,
-            _mm_max_ps(zero, _mm_sub_ps(_mm_mul_ps(sin_w, cos_o), _mm_mul_ps(cos_w, sin_o))), zero);
-    const __m128 cos_x = sel(_mm_cmpge_ps(cos_wo, cos_b), one,
-                             _mm_add_ps(_mm_mul_ps(cos_wo, cos_b), _mm_mul_ps(sin_wo, sin_b)));
-    const __m128 power = _mm_loadu_ps(w.power);
-    const __m128 floor2 =
-        _mm_max_ps(_mm_max_ps(dist2, _mm_mul_ps(_mm_set1_ps(0.25f), r2)), _mm_set1_ps(1e-20f));
-    __m128 result = _mm_div_ps(_mm_mul_ps(power, cos_x), floor2);
-    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {  // the receiver's best cosine
-        const __m128 cos_i = _mm_mul_ps(
-            _mm_and_ps(dot(tx, ty, tz, _mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z)),
-                       abs_mask),
-            inv_dist);
-        const __m128 sin_i = safe_sqrt(_mm_sub_ps(one, _mm_mul_ps(cos_i, cos_i)));
-        const __m128 factor =
-            sel(_mm_cmplt_ps(cos_i, cos_b),
-                _mm_add_ps(_mm_mul_ps(cos_i, cos_b), _mm_mul_ps(sin_i, sin_b)), one);
-        result = _mm_mul_ps(result, factor);
-    }
-    const __m128 valid =
-        _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(power, zero), _mm_cmpgt_ps(cos_x, zero)),
-                   _mm_cmplt_ps(result, _mm_set1_ps(INFINITY)));
-    _mm_storeu_ps(out, _mm_and_ps(valid, result));
+        select(outside_cone, _mm_add_ps(_mm_mul_ps(cos_w, cos_o), _mm_mul_ps(sin_w, sin_o)), one);
+    const __m128 sin_wo = select(
+        outside_cone,
+        _mm_max_ps(zero, _mm_sub_ps(_mm_mul_ps(sin_w, cos_o), _mm_mul_ps(cos_w, sin_o))), zero);
+    cos_x = select(_mm_cmpge_ps(cos_wo, cos_b), one,
+                   _mm_add_ps(_mm_mul_ps(cos_wo, cos_b), _mm_mul_ps(sin_wo, sin_b)));
+    const __m128 result = _mm_div_ps(_mm_mul_ps(load(w.power), cos_x), l.floor2);
+    if (!l.receiver) return result;
+    const __m128 sin_i = safe_sqrt(_mm_sub_ps(one, _mm_mul_ps(l.cos_i, l.cos_i)));  // best cosine
+    return _mm_mul_ps(
+        result, select(_mm_cmplt_ps(l.cos_i, cos_b),
+                       _mm_add_ps(_mm_mul_ps(l.cos_i, cos_b), _mm_mul_ps(sin_i, sin_b)), one));
 }
 
-// estimate() (light_bounds.h) for the four slots at once, lane by lane as importance() above.
-void wide_estimate(const LightTree::WideNode& w, const Vec3& p, const Vec3& n,
-                   const float importance[4], float out[4]) {
-    const __m128 zero = _mm_setzero_ps();
-    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const auto dot = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
-        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
-    };
-    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_loadu_ps(w.center[0]));
-    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_loadu_ps(w.center[1]));
-    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_loadu_ps(w.center[2]));
-    const __m128 dist2 = dot(tx, ty, tz, tx, ty, tz);
-    const __m128 inv_dist =
-        _mm_and_ps(_mm_cmpgt_ps(dist2, zero), _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(dist2)));
-    const __m128 wx = _mm_mul_ps(tx, inv_dist), wy = _mm_mul_ps(ty, inv_dist),
-                 wz = _mm_mul_ps(tz, inv_dist);
-    const __m128 one_sided = dot(_mm_loadu_ps(w.mean_normal[0]), _mm_loadu_ps(w.mean_normal[1]),
-                                 _mm_loadu_ps(w.mean_normal[2]), wx, wy, wz);
-    const __m128 axis_cos = _mm_and_ps(
-        dot(_mm_loadu_ps(w.axis[0]), _mm_loadu_ps(w.axis[1]), _mm_loadu_ps(w.axis[2]), wx, wy, wz),
-        abs_mask);
-    const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(w.flags));
-    const __m128i single_bits = _mm_set1_epi32(int(LightTree::kLeaf | LightTree::kPair));
-    const __m128 single = _mm_castsi128_ps(
-        _mm_cmpeq_epi32(_mm_and_si128(flags, single_bits), _mm_set1_epi32(int(LightTree::kLeaf))));
-    const __m128 two_sided =
-        _mm_or_ps(_mm_and_ps(single, axis_cos), _mm_andnot_ps(single, _mm_set1_ps(0.5f)));
-    const __m128 emitted = _mm_add_ps(_mm_max_ps(zero, one_sided),
-                                      _mm_mul_ps(_mm_loadu_ps(w.two_sided_share), two_sided));
-    const __m128 floor2 =
-        _mm_max_ps(_mm_max_ps(dist2, _mm_mul_ps(_mm_set1_ps(0.25f), _mm_loadu_ps(w.radius2))),
-                   _mm_set1_ps(1e-20f));
-    __m128 result = _mm_div_ps(_mm_mul_ps(_mm_loadu_ps(w.power), emitted), floor2);
-    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f)  // the receiver's cosine
-        result = _mm_mul_ps(result, _mm_and_ps(dot(wx, wy, wz, _mm_set1_ps(n.x), _mm_set1_ps(n.y),
-                                                   _mm_set1_ps(n.z)),
-                                               abs_mask));
-    const __m128 valid = _mm_and_ps(_mm_cmpgt_ps(_mm_loadu_ps(importance), zero),
-                                    _mm_cmplt_ps(result, _mm_set1_ps(INFINITY)));
-    _mm_storeu_ps(out, _mm_and_ps(valid, result));
+// estimate() lane by lane: the one-sided emitters' mean cosine, two-sided ones' |cos| when the
+// slot is one emitter, else half.
+__m128 estimate_lanes(const LightTree::WideNode& w, const Lanes& l, __m128 axis_cos) {
+    const __m128 single =
+        flags_equal(w.flags, LightTree::kLeaf | LightTree::kPair, LightTree::kLeaf);
+    const __m128 two_sided = select(single, abs_value(axis_cos), _mm_set1_ps(0.5f));
+    const __m128 one_sided = _mm_mul_ps(dot(load(w.mean_normal[0]), load(w.mean_normal[1]),
+                                            load(w.mean_normal[2]), l.tx, l.ty, l.tz),
+                                        l.inv_dist);
+    const __m128 emitted = _mm_add_ps(_mm_max_ps(_mm_setzero_ps(), one_sided),
+                                      _mm_mul_ps(load(w.two_sided_share), two_sided));
+    const __m128 result = _mm_div_ps(_mm_mul_ps(load(w.power), emitted), l.floor2);
+    return l.receiver ? _mm_mul_ps(result, l.cos_i) : result;
+}
+
+}  // namespace
+
+// importance() and estimate() (light_bounds.h) for the four slots at once; they share the
+// direction and distance to p. Lanes importance() would leave early are zeroed in both.
+void wide_weights(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float bound[4],
+                  float guess[4]) {
+    const Lanes l = lanes(w, p, n);
+    const __m128 axis_cos = _mm_mul_ps(
+        dot(load(w.axis[0]), load(w.axis[1]), load(w.axis[2]), l.tx, l.ty, l.tz), l.inv_dist);
+    __m128 cos_x;
+    const __m128 result = bound_lanes(w, l, axis_cos, cos_x);
+    const __m128 estimated = estimate_lanes(w, l, axis_cos);
+    const __m128 zero = _mm_setzero_ps(), infinity = _mm_set1_ps(INFINITY);
+    const __m128 valid =
+        _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(load(w.power), zero), _mm_cmpgt_ps(cos_x, zero)),
+                   _mm_cmplt_ps(result, infinity));
+    _mm_storeu_ps(bound, _mm_and_ps(valid, result));
+    _mm_storeu_ps(guess,
+                  _mm_and_ps(_mm_and_ps(valid, _mm_cmplt_ps(estimated, infinity)), estimated));
 }
 #else
-void wide_importance(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float out[4]) {
-    for (int k = 0; k < LightTree::kWidth; ++k)
-        out[k] = importance(slot_bounds(w, k), p, n);
-}
-
-void wide_estimate(const LightTree::WideNode& w, const Vec3& p, const Vec3& n,
-                   const float importance[4], float out[4]) {
+void wide_weights(const LightTree::WideNode& w, const Vec3& p, const Vec3& n, float bound[4],
+                  float guess[4]) {
     for (int k = 0; k < LightTree::kWidth; ++k) {
+        bound[k] = importance(slot_bounds(w, k), p, n);
         // A slot holding one emitter (a leaf, not a pair): its two-sided emission is exact.
         const bool single =
             (w.flags[k] & (LightTree::kLeaf | LightTree::kPair)) == LightTree::kLeaf;
-        out[k] = importance[k] > 0.0f ? estimate(slot_bounds(w, k), p, n, single) : 0.0f;
+        guess[k] = bound[k] > 0.0f ? estimate(slot_bounds(w, k), p, n, single) : 0.0f;
     }
 }
 #endif
@@ -233,11 +233,10 @@ LightBounds LightTree::bounds(std::size_t wide_node, int slot) const {
 float LightTree::slot_weights(const WideNode& w, const Vec3& p, const Vec3& n, bool& by_power,
                               float weight[kWidth]) const {
     if (!by_power) {
-        wide_importance(w, p, n, weight);
+        float guess[kWidth];
+        wide_weights(w, p, n, weight, guess);
         const float total = (weight[0] + weight[1]) + (weight[2] + weight[3]);
         if (total > 0.0f) {
-            float guess[kWidth];
-            wide_estimate(w, p, n, weight, guess);
             const float guessed = (guess[0] + guess[1]) + (guess[2] + guess[3]);
             if (!(guessed > 0.0f)) return total;
             const float a = 0.5f / total, b = 0.5f / guessed;

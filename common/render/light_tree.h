@@ -132,10 +132,9 @@ private:
 
 // A wide node's slot k as the bounds importance() reads.
 PackedLightBounds slot_bounds(const LightTree::WideNode& node, int k);
-// importance() of all four slots at once (SIMD where the machine has it), as the descent uses.
-void wide_importance(const LightTree::WideNode& node, const Vec3& p, const Vec3& n, float out[4]);
-// estimate() of all four slots at once, given their importance() (zero there: zero here).
-void wide_estimate(const LightTree::WideNode& node, const Vec3& p, const Vec3& n,
-                   const float importance[4], float out[4]);
+// importance() and estimate() of all four slots at once (SIMD where the machine has it), as the
+// descent uses them; the estimate is zero where the importance is.
+void wide_weights(const LightTree::WideNode& node, const Vec3& p, const Vec3& n, float bound[4],
+                  float guess[4]);
 
 }  // namespace pathfarm

@@ -106,15 +106,16 @@ float pf_light_estimate(__global const PfLightNode* b, int k, float3 p, float3 n
     const float3 to_p = p - (float3)(b->center[0][k], b->center[1][k], b->center[2][k]);
     const float dist2 = dot(to_p, to_p);
     const float inv_dist = dist2 > 0.0f ? 1.0f / sqrt(dist2) : 0.0f;
-    const float3 w = to_p * inv_dist;
     const float one_sided =
-        dot((float3)(b->mean_normal[0][k], b->mean_normal[1][k], b->mean_normal[2][k]), w);
+        dot((float3)(b->mean_normal[0][k], b->mean_normal[1][k], b->mean_normal[2][k]), to_p) *
+        inv_dist;
     const bool single = (b->flags[k] & (PF_LIGHT_LEAF | PF_LIGHT_PAIR)) == PF_LIGHT_LEAF;
     const float two_sided =
-        single ? fabs(dot((float3)(b->axis[0][k], b->axis[1][k], b->axis[2][k]), w)) : 0.5f;
+        single ? fabs(dot((float3)(b->axis[0][k], b->axis[1][k], b->axis[2][k]), to_p)) * inv_dist
+               : 0.5f;
     float result = b->power[k] * (fmax(0.0f, one_sided) + b->two_sided_share[k] * two_sided) /
                    fmax(fmax(dist2, 0.25f * b->radius2[k]), 1e-20f);
-    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= fabs(dot(w, n));
+    if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= fabs(dot(to_p, n)) * inv_dist;
     return isfinite(result) ? result : 0.0f;
 }
 

@@ -301,8 +301,7 @@ TEST(LightTree, WideImportanceAndEstimateAreTheScalarOnesOfEachSlot) {
         const Vec3 p = scale * Vec3(2.0f * u(rng), 2.0f * u(rng), 2.0f * u(rng)) - Vec3(scale / 2);
         const Vec3 n = u(rng) < 0.2f ? Vec3(0.0f) : random_direction(rng);
         float wide[LightTree::kWidth], guess[LightTree::kWidth];
-        wide_importance(w, p, n, wide);
-        wide_estimate(w, p, n, wide, guess);
+        wide_weights(w, p, n, wide, guess);
         for (int k = 0; k < LightTree::kWidth; ++k) {
             const float scalar = importance(slot_bounds(w, k), p, n);
             ASSERT_NEAR(wide[k], scalar, 1e-6f * scalar) << "case " << i << " slot " << k;
