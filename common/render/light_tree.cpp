@@ -264,15 +264,21 @@ std::optional<LightTree::Choice> LightTree::sample(const Vec3& p, const Vec3& n,
         const float total = slot_weights(w, p, n, by_power, weight);
         if (!(total > 0.0f)) return std::nullopt;
         const float target = u * total;
-        int slot = -1;
-        float below = 0.0f, lower = 0.0f;
-        for (int k = 0; k < kWidth; ++k) {
-            if (!(weight[k] > 0.0f)) continue;
-            slot = k;
-            lower = below;
-            below += weight[k];
-            if (target < below) break;
-        }
+        // The first slot whose running sum exceeds the target, counted without a branch per
+        // slot (the random choice made those unpredictable): the sums never fall, so the slots
+        // whose sums the target reaches come first, and a slot of weight zero is never the
+        // first one it does not. Where rounding lets the target reach the last sum: the last
+        // slot with weight.
+        float below[kWidth];
+        below[0] = weight[0];
+        for (int k = 1; k < kWidth; ++k)
+            below[k] = below[k - 1] + weight[k];
+        int slot = int(target >= below[0]) + int(target >= below[1]) + int(target >= below[2]) +
+                   int(target >= below[3]);
+        if (slot == kWidth)
+            for (slot = kWidth - 1; slot > 0 && !(weight[slot] > 0.0f);)
+                --slot;
+        const float lower = slot > 0 ? below[slot - 1] : 0.0f;
         pmf *= weight[slot] / total;
         u = std::clamp((target - lower) / weight[slot], 0.0f, kOneBelow);
         if (w.flags[slot] & kLeaf) {
