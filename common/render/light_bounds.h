@@ -101,10 +101,10 @@ inline float importance(const PackedLightBounds& b, const Vec3& p, const Vec3& n
     return std::isfinite(result) ? result : 0.0f;
 }
 
-// The estimate (see above), inline like importance(); zero where importance() is. `single`: the
-// bounds are one emitter's (a two-sided one then emits |cos| exactly, not half on average).
+// The estimate (see above), inline like importance(); its callers zero it where importance()
+// is zero (they have that at hand). `single`: the bounds are one emitter's (a two-sided one
+// then emits |cos| exactly, not half on average).
 inline float estimate(const PackedLightBounds& b, const Vec3& p, const Vec3& n, bool single) {
-    if (!(importance(b, p, n) > 0.0f)) return 0.0f;
     const Vec3 to_p(p.x - b.center[0], p.y - b.center[1], p.z - b.center[2]);
     const float dist2 = glm::dot(to_p, to_p);
     const float inv_dist = dist2 > 0.0f ? 1.0f / std::sqrt(dist2) : 0.0f;

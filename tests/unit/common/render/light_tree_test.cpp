@@ -307,7 +307,8 @@ TEST(LightTree, WideImportanceAndEstimateAreTheScalarOnesOfEachSlot) {
             ASSERT_NEAR(wide[k], scalar, 1e-6f * scalar) << "case " << i << " slot " << k;
             const bool single =
                 (w.flags[k] & (LightTree::kLeaf | LightTree::kPair)) == LightTree::kLeaf;
-            const float estimated = estimate(slot_bounds(w, k), p, n, single);
+            const float estimated =
+                scalar > 0.0f ? estimate(slot_bounds(w, k), p, n, single) : 0.0f;
             ASSERT_NEAR(guess[k], estimated, 1e-5f * estimated) << "case " << i << " slot " << k;
             if (scalar == 0.0f) {
                 ASSERT_EQ(guess[k], 0.0f) << "case " << i << " slot " << k;
