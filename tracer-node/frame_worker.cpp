@@ -49,8 +49,22 @@ Status FrameWorker::update_backend() {
     // it moves only the camera.
     SceneChanges& changes = next.changes;
     recentre_for_backend(scene_, previous_origin, changes);
+    mark_deformed(changes);
     if (backend_.wants_bvh_nodes()) backend_.provide_mesh_bvhs(mesh_bvhs());
     return backend_.update_scene(scene_, changes);
+}
+
+// Instances whose mesh's vertices this commit changed: their first hits carry the triangle
+// and barycentrics (first_hits.h), which the coordinator needs to reproject them.
+void FrameWorker::mark_deformed(const SceneChanges& changes) {
+    std::vector<uint8_t> mesh_deformed(scene_.meshes.size(), changes.structure ? 1 : 0);
+    for (const uint32_t m : changes.mesh_vertices)
+        if (m < mesh_deformed.size()) mesh_deformed[m] = 1;
+    deformed_.assign(scene_.instances.size(), 0);
+    for (std::size_t i = 0; i < scene_.instances.size(); ++i) {
+        const int mesh = scene_.instances[i].mesh;
+        deformed_[i] = mesh >= 0 && std::size_t(mesh) < mesh_deformed.size() && mesh_deformed[mesh];
+    }
 }
 
 Status FrameWorker::render(const wire::Assignment& a) {
@@ -101,8 +115,15 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
     tile.rgb_zstd = compress_floats(rgb.data(), rgb.size());
     if (a.first_hits) {
         hits.resize(std::size_t(tile.y1 - tile.y0) * a.width);
-        for (FirstHit& h : hits)  // the commit's ids, which the coordinator knows
-            if (h.hit()) h.instance = scene_.instances[h.instance].id;
+        for (FirstHit& h : hits) {
+            if (!h.hit()) continue;
+            if (h.instance >= deformed_.size() || !deformed_[h.instance]) {
+                h.primitive = FirstHit::kNone;  // zeros that compress away: see mark_deformed
+                h.u = h.v = 0.0f;
+            }
+            h.instance =
+                scene_.instances[h.instance].id;  // the commit's, which the coordinator knows
+        }
         tile.first_hits_zstd = encode_first_hits(hits.data(), hits.size());
     }
     tile.render_ms = tile_timer.milliseconds();

@@ -41,6 +41,7 @@ private:
     Status render_tile_by_units(const wire::Assignment& a, RenderJob& job, int y0, int y1,
                                 double slowdown, std::vector<float>& rgb, wire::Tile& tile);
     std::vector<MeshBvhView> mesh_bvhs() const;
+    void mark_deformed(const SceneChanges& changes);
 
     const TracerOptions& options_;
     RenderBackend& backend_;
@@ -49,6 +50,7 @@ private:
     Replica replica_;
     SceneModel scene_;        // what the backend renders; outlives its use by the backend
     double update_ms_ = 0.0;  // this frame's replica and backend update, sent with its first tile
+    std::vector<uint8_t> deformed_;  // per scene_ instance: its vertices changed in this commit
 };
 
 }  // namespace pathfarm::tracer

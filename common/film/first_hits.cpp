@@ -10,7 +10,7 @@
 namespace pathfarm {
 namespace {
 
-constexpr std::size_t kBytesPerHit = 2 * 4 + 6 * 2 + 1;
+constexpr std::size_t kBytesPerHit = 2 * 4 + 6 * 2 + 1 + 4 + 2 * 2;
 
 template <typename T>
 void put(std::string& out, std::size_t& at, T value) {
@@ -43,6 +43,12 @@ std::string encode_first_hits(const FirstHit* hits, std::size_t count) {
             put(raw, at, uint16_t(glm::packHalf1x16(hits[i].albedo[c])));
     for (std::size_t i = 0; i < count; ++i)
         put(raw, at, uint8_t(hits[i].flags));
+    for (std::size_t i = 0; i < count; ++i)
+        put(raw, at, hits[i].primitive);
+    for (std::size_t i = 0; i < count; ++i)
+        put(raw, at, uint16_t(glm::packHalf1x16(hits[i].u)));
+    for (std::size_t i = 0; i < count; ++i)
+        put(raw, at, uint16_t(glm::packHalf1x16(hits[i].v)));
     return compress_bytes(raw.data(), raw.size());
 }
 
@@ -64,6 +70,12 @@ Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::si
             h.albedo[c] = glm::unpackHalf1x16(get<uint16_t>(raw, at));
     for (FirstHit& h : hits)
         h.flags = get<uint8_t>(raw, at);
+    for (FirstHit& h : hits)
+        h.primitive = get<uint32_t>(raw, at);
+    for (FirstHit& h : hits)
+        h.u = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+    for (FirstHit& h : hits)
+        h.v = glm::unpackHalf1x16(get<uint16_t>(raw, at));
     return hits;
 }
 

@@ -13,7 +13,7 @@
 
 namespace pathfarm {
 
-// One pixel's first hit. Laid out as 9 four-byte words so the OpenCL kernel writes the same
+// One pixel's first hit. Laid out as 12 four-byte words so the OpenCL kernel writes the same
 // bytes (tracer-node/opencl/kernels/path_tracer.cl, pf_first_hit).
 struct FirstHit {
     static constexpr uint32_t kNone = 0xffffffffu;
@@ -26,15 +26,22 @@ struct FirstHit {
     Vec3 normal{0.0f};           // unit world-space shading normal, facing the camera
     Rgb albedo{0.0f};            // base colour at the hit (textures applied)
     uint32_t flags = 0;          // kSharp
+    // The triangle hit (its index in the instance's mesh) and the barycentrics of the point,
+    // p = (1-u-v) p0 + u p1 + v p2: where a deforming surface was last frame is the same
+    // combination of the triangle's previous vertices (coordinator/converge reprojection).
+    uint32_t primitive = kNone;
+    float u = 0.0f, v = 0.0f;
     bool hit() const { return instance != kNone; }
     bool sharp() const { return (flags & kSharp) != 0; }
 };
-static_assert(sizeof(FirstHit) == 9 * sizeof(float), "FirstHit is the kernel's 9 words");
+static_assert(sizeof(FirstHit) == 12 * sizeof(float), "FirstHit is the kernel's 12 words");
 
 // Wire form (Tile.first_hits_zstd): planar distance (float32) and instance (uint32), normal and
-// albedo as IEEE half floats, flags as a byte, zstd-compressed. Half precision is 1e-3
-// relative: plenty for reprojection and edge-stopping weights, and 21 instead of 36 bytes a
-// pixel.
+// albedo as IEEE half floats, flags as a byte, primitive (uint32) and barycentrics as half
+// floats, zstd-compressed. Half precision is 1e-3 relative: plenty for reprojection and
+// edge-stopping weights, and 29 instead of 48 bytes a pixel. A tracer sends the primitive only
+// for surfaces that deformed in the frame (kNone and zero barycentrics elsewhere, which zstd
+// reduces to almost nothing): only those need it.
 std::string encode_first_hits(const FirstHit* hits, std::size_t count);
 // Fails unless `data` holds exactly `count` pixels.
 Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::size_t count);

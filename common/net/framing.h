@@ -14,7 +14,9 @@ namespace pathfarm::net {
 // 3: tiles carry the first hits an assignment asks for (the coordinator refuses tiles without
 //    them, so an older tracer is refused at the handshake instead) and the update time.
 // 4: first hits carry flags (FirstHit::kSharp), a byte plane more in first_hits_zstd.
-inline constexpr uint32_t kProtocolVersion = 5;
+// 5: assignments say whether next-event estimation chooses emitters through the light tree.
+// 6: first hits carry the triangle and barycentrics of deformed surfaces (motion vectors).
+inline constexpr uint32_t kProtocolVersion = 6;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // What a coordinator accepts from tracers (tiles of a whole frame at 4K stay far below) and
 // from clients (input only); what peers accept from the coordinator (commit chunks, frames).

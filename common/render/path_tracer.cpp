@@ -142,8 +142,14 @@ FirstHit PathTracer::first_hit(const Ray& ray, SampleCounters& counters) const {
     const MaterialPoint mp = shading_.material_point(sp);
     const bool sharp = max_component(shading_.emitted(sp, -ray.d)) > 0.0f ||
                        mp.transmission > 0.0f || (mp.metallic >= 0.5f && mp.alpha < kSharpMaxAlpha);
-    return {hit.t, hit.instance, glm::dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns, mp.base_color,
-            sharp ? FirstHit::kSharp : 0u};
+    return {hit.t,
+            hit.instance,
+            glm::dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns,
+            mp.base_color,
+            sharp ? FirstHit::kSharp : 0u,
+            hit.prim,
+            hit.u,
+            hit.v};
 }
 
 template <uint32_t kFeatures>

@@ -19,6 +19,10 @@ struct GBuffer {
     std::vector<Vec3> normal;        // shading normal facing the camera (zero where it escapes)
     std::vector<Rgb> albedo;         // base colour (zero where it escapes)
     std::vector<uint8_t> sharp;      // 1: the denoiser keeps the pixel's own light (FirstHit)
+    // Triangle and barycentrics of the hit, on surfaces that deformed this frame (FirstHit);
+    // kNone elsewhere. With upscaling, the nearest render pixel's.
+    std::vector<uint32_t> primitive;
+    std::vector<Vec2> barycentric;
 
     static constexpr uint32_t kNoInstance = 0;  // instance ids start at 1
     bool hit(std::size_t i) const { return instance[i] != kNoInstance; }

@@ -29,6 +29,34 @@ Rgb clamp_history(const Rgb& history, const NeighbourhoodStats& nb, std::size_t 
     return glm::clamp(history, mean - bound, mean + bound);
 }
 
+// A deformed instance's vertices last frame and now, each with its object-to-world.
+struct Deformation {
+    const SurfaceVertices* before = nullptr;
+    const SurfaceVertices* now = nullptr;
+    Mat4 before_to_world{1.0f}, now_to_world{1.0f};
+
+    // How far the point at barycentrics b of triangle `prim` moved since last frame, in world
+    // space; false unless the triangle is the same in both frames' meshes.
+    bool displacement(uint32_t prim, const Vec2& b, Vec3& moved) const {
+        if (prim == FirstHit::kNone || before->indices.size() != now->indices.size() ||
+            std::size_t(prim) * 3 + 2 >= now->indices.size())
+            return false;
+        const uint32_t* tri = now->indices.data() + std::size_t(prim) * 3;
+        const uint32_t* was = before->indices.data() + std::size_t(prim) * 3;
+        const std::size_t n = std::min(before->positions.size(), now->positions.size());
+        if (tri[0] != was[0] || tri[1] != was[1] || tri[2] != was[2] || tri[0] >= n ||
+            tri[1] >= n || tri[2] >= n)
+            return false;
+        const auto at = [&](const SurfaceVertices& s) {
+            return (1.0f - b.x - b.y) * s.positions[tri[0]] + b.x * s.positions[tri[1]] +
+                   b.y * s.positions[tri[2]];
+        };
+        moved =
+            transform_point(before_to_world, at(*before)) - transform_point(now_to_world, at(*now));
+        return true;
+    }
+};
+
 // How this frame's surfaces moved since the last: the camera, and each instance that moved.
 // Per pixel, reprojection asks about the instance it sees; below kTableIds ids the answers sit
 // in arrays indexed by id (a set or map lookup per pixel cost a third of the blend), larger
@@ -37,10 +65,12 @@ struct Motion {
     enum Flag : uint8_t { kMoving = 1, kInView = 2, kInPrevious = 4, kDeformed = 8 };
     static constexpr uint32_t kTableIds = 1u << 20;
     bool camera_moved = false;
-    std::set<uint32_t> moving;             // moved, deformed or new instances
-    std::map<uint32_t, Mat4> to_previous;  // this frame's world to last frame's, per mover
-    std::vector<uint8_t> flags;            // by id
-    std::vector<const Mat4*> motion;       // by id: into to_previous, or null
+    std::set<uint32_t> moving;                     // moved, deformed or new instances
+    std::map<uint32_t, Mat4> to_previous;          // this frame's world to last frame's, per mover
+    std::vector<uint8_t> flags;                    // by id
+    std::vector<const Mat4*> motion;               // by id: into to_previous, or null
+    std::map<uint32_t, Deformation> deformations;  // deformed instances with vertices known
+    std::vector<const Deformation*> deformation;   // by id: into deformations, or null
     const FrameView* prev = nullptr;
     const FrameView* view = nullptr;
 
@@ -58,9 +88,29 @@ struct Motion {
         const auto it = to_previous.find(id);
         return it == to_previous.end() ? nullptr : &it->second;
     }
+    const Deformation* deformation_of(uint32_t id) const {
+        if (id < deformation.size()) return deformation[id];
+        if (id < kTableIds) return nullptr;
+        const auto it = deformations.find(id);
+        return it == deformations.end() ? nullptr : &it->second;
+    }
 };
 
-Motion motion_between(const FrameView& prev, const FrameView& view) {
+// Each deformed instance whose vertices are known now and from before, with its transforms.
+void add_deformations(Motion& m, const SurfaceMap& before, const FrameView& prev,
+                      const FrameView& view) {
+    for (const uint32_t id : view.deformed) {
+        const auto was = before.find(id), is = view.surfaces.find(id);
+        const auto was_at = prev.instances.find(id), is_at = view.instances.find(id);
+        if (was == before.end() || is == view.surfaces.end() || was_at == prev.instances.end() ||
+            is_at == view.instances.end() || !was->second || !is->second)
+            continue;
+        m.deformations[id] =
+            Deformation{was->second.get(), is->second.get(), was_at->second, is_at->second};
+    }
+}
+
+Motion motion_between(const FrameView& prev, const FrameView& view, const SurfaceMap& before) {
     Motion m;
     m.prev = &prev;
     m.view = &view;
@@ -88,6 +138,7 @@ Motion motion_between(const FrameView& prev, const FrameView& view) {
         cover(id);
     m.flags.assign(ids, 0);
     m.motion.assign(ids, nullptr);
+    m.deformation.assign(ids, nullptr);
     const auto mark = [&](uint32_t id, Motion::Flag f) {
         if (id < ids) m.flags[id] |= f;
     };
@@ -101,6 +152,9 @@ Motion motion_between(const FrameView& prev, const FrameView& view) {
         mark(entry.first, Motion::kInPrevious);
     for (const auto& [id, to_prev] : m.to_previous)
         if (id < ids) m.motion[id] = &to_prev;
+    add_deformations(m, before, prev, view);
+    for (const auto& [id, d] : m.deformations)
+        if (id < ids) m.deformation[id] = &d;
     return m;
 }
 
@@ -129,9 +183,16 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
             on_screen = project_prev.direction(camera_ray(x + 0.5f, y + 0.5f).d, px, py);
         } else {
             Vec3 p = g.position[i];
-            if (const Mat4* to_previous = m.motion_of(inst)) p = transform_point(*to_previous, p);
-            on_screen = !(flags & Motion::kDeformed) && (flags & Motion::kInPrevious) &&
-                        project_prev.point(p, px, py);
+            bool known = true;
+            if (flags & Motion::kDeformed) {  // by the motion of its triangle's vertices
+                const Deformation* d = m.deformation_of(inst);
+                Vec3 moved(0.0f);
+                known = d && d->displacement(g.primitive[i], g.barycentric[i], moved);
+                p += moved;
+            } else if (const Mat4* to_previous = m.motion_of(inst)) {
+                p = transform_point(*to_previous, p);
+            }
+            on_screen = known && (flags & Motion::kInPrevious) && project_prev.point(p, px, py);
             expected = glm::length(p - project_prev.eye());
         }
     }
@@ -163,6 +224,7 @@ float TemporalAccumulator::min_history_frames() const {
 
 void TemporalAccumulator::reset() {
     previous_.reset();
+    last_surfaces_.clear();
     history_ = FloatImage();
     frames_.clear();
     moments_.clear();
@@ -178,13 +240,22 @@ void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
             luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
         moments_[i] = Vec2(l, l * l);
     }
+    remember_surfaces(view);
     previous_ = std::move(view);
+}
+
+void TemporalAccumulator::remember_surfaces(const FrameView& view) {
+    for (const auto& [id, surface] : view.surfaces)
+        last_surfaces_[id] = surface;
+    std::erase_if(last_surfaces_,
+                  [&](const auto& entry) { return !view.instances.count(entry.first); });
 }
 
 void TemporalAccumulator::keep(FrameView view) {
     std::swap(history_, next_history_);
     std::swap(frames_, next_frames_);
     std::swap(moments_, next_moments_);
+    remember_surfaces(view);
     previous_ = std::move(view);
 }
 
@@ -197,7 +268,8 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
         return {1.0, 0.0, 1.0};
     }
     const FrameView& prev = *previous_;
-    const Motion motion = motion_between(prev, view);  // camera and instances since `prev`
+    const Motion motion =
+        motion_between(prev, view, last_surfaces_);  // camera and instances since `prev`
     const CameraProjector project_prev(prev.camera, w, h);
     const CameraRays camera_ray(view.camera, w, h);
     // Every pixel of these is written below; kept from frame to frame to spare the allocations.

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 
@@ -16,12 +17,23 @@
 
 namespace pathfarm::coord {
 
+// A deformed instance's mesh as it is in one frame: where its pixels were is the same
+// barycentric combination of a triangle's vertices one frame earlier (motion vectors).
+struct SurfaceVertices {
+    std::vector<Vec3> positions;    // object space
+    std::vector<uint32_t> indices;  // three per triangle
+};
+using SurfaceMap = std::map<uint32_t, std::shared_ptr<const SurfaceVertices>>;
+
 // What the accumulator must know about a frame besides its pixels.
 struct FrameView {
     Camera camera;
     GBuffer gbuffer;                     // at the display resolution
     std::map<uint32_t, Mat4> instances;  // instance id -> object-to-world this frame
     std::set<uint32_t> deformed;         // instances whose vertices changed this frame
+    // Their vertices after the change, by instance id. A deformed instance without them, or
+    // whose vertices the accumulator has not seen before, keeps no history.
+    SurfaceMap surfaces;
     // Lighting, materials or the environment changed: no history is valid (a cut).
     bool cut = false;
 };
@@ -58,12 +70,16 @@ public:
 private:
     void start_over(const FloatImage& image, FrameView view);  // this frame's samples alone
     void keep(FrameView view);  // the blend's outputs become the history
+    void remember_surfaces(const FrameView& view);
 
     ConvergeOptions o_;
     FloatImage history_;
     std::vector<float> frames_;
     std::vector<Vec2> moments_;
     std::optional<FrameView> previous_;
+    // Each deformed instance's vertices as last seen: its vertices in the previous frame, since
+    // every change of them comes with the frame's view.
+    SurfaceMap last_surfaces_;
     FloatImage next_history_;  // the blend's outputs before they become the history
     std::vector<float> next_frames_;
     std::vector<Vec2> next_moments_;

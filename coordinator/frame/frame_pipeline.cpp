@@ -72,8 +72,18 @@ FrameView FramePipeline::view(const FrameUpdate& u) const {
         v.camera = cam->second;
     for (const InstanceAccel& inst : u.accel->instances)
         v.instances[inst.id] = inst.to_world;
-    for (const auto& [id, inst] : state.instances)
-        if (u.changes.vertices_changed.count(inst.mesh)) v.deformed.insert(id);
+    // Deformed instances and their vertices now, one copy per mesh however many show it.
+    std::map<uint32_t, std::shared_ptr<const SurfaceVertices>> by_mesh;
+    for (const auto& [id, inst] : state.instances) {
+        if (!u.changes.vertices_changed.count(inst.mesh)) continue;
+        v.deformed.insert(id);
+        auto& surface = by_mesh[inst.mesh];
+        if (!surface)
+            if (const auto mesh = state.meshes.find(inst.mesh); mesh != state.meshes.end())
+                surface = std::make_shared<const SurfaceVertices>(
+                    SurfaceVertices{mesh->second.positions, mesh->second.indices});
+        if (surface) v.surfaces[id] = surface;
+    }
     // What lights the scene changed: the history of every pixel is wrong.
     v.cut = !u.changes.materials_set.empty() || !u.changes.materials_removed.empty() ||
             !u.changes.textures_set.empty() || u.changes.environment;

@@ -11,9 +11,14 @@ namespace pathfarm::test {
 
 coord::GBuffer first_hit_gbuffer(const SceneModel& scene, const Camera& camera, uint32_t k,
                                  int display_w, int display_h, float scale) {
+    const coord::SceneGraph graph(scene);
+    return first_hit_gbuffer(graph.state(), camera, k, display_w, display_h, scale);
+}
+
+coord::GBuffer first_hit_gbuffer(const SceneState& state, const Camera& camera, uint32_t k,
+                                 int display_w, int display_h, float scale) {
     const int w = int(display_w * scale), h = int(display_h * scale);
-    coord::SceneGraph graph(scene);
-    SceneModel model = to_scene_model(graph.state());
+    SceneModel model = to_scene_model(state);
     model.cameras.at(0) = camera;
     recentre_on_camera(model, camera);
     auto backend = tracer::create_backend(tracer::BackendKind::embree, {2, 0, 0});

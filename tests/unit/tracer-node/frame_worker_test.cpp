@@ -7,13 +7,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/commit/commit_codec.h"
+#include "common/film/first_hits.h"
 #include "common/scene/load/builtin_scenes.h"
 #include "common/wire/messages.h"
 
 namespace pathfarm::tracer {
 namespace {
 
-// Records what update_scene received; renders black rows.
+// Records what update_scene received; renders black rows, and first hits that cycle through
+// the scene's instances, each on triangle 3 at barycentrics (0.25, 0.5).
 class RecordingBackend final : public RenderBackend {
 public:
     std::string name() const override { return "recording"; }
@@ -24,7 +26,11 @@ public:
         return {};
     }
     Result<RenderStats> render_rows(const RenderJob& job, float* out) override {
-        std::fill(out, out + std::size_t(job.y1 - job.y0) * job.frame.width * 3, 0.0f);
+        const std::size_t pixels = std::size_t(job.y1 - job.y0) * job.frame.width;
+        std::fill(out, out + pixels * 3, 0.0f);
+        for (std::size_t i = 0; job.first_hits && i < pixels; ++i)
+            job.first_hits[i] = FirstHit{
+                1.0f, uint32_t(i % instances), Vec3(0, 0, 1), Rgb(0.5f), 0u, 3u, 0.25f, 0.5f};
         return RenderStats{};
     }
     std::vector<SceneChanges> updates;
@@ -50,8 +56,8 @@ protected:
             ASSERT_TRUE(worker_.handle(*m).ok());
         }
     }
-    void render(uint64_t frame) {
-        const wire::Assignment a{frame, frame, 0, 4, 16, 8, 1, 0, 2, 1.0f};
+    void render(uint64_t frame, bool first_hits = false) {
+        const wire::Assignment a{frame, frame, 0, 4, 16, 8, 1, 0, 2, 1.0f, first_hits};
         ASSERT_TRUE(worker_.handle(wire::TracerInbound{a}).ok());
     }
     // Applies one op as commit `frame` and returns what the backend was told at the next render.
@@ -162,6 +168,39 @@ TEST_F(FrameWorkerTest, AnUnchangedSceneIsNotHandedToTheBackendAgain) {
     send(Commit{1, 0, false, {}});
     render(1);
     EXPECT_EQ(backend_.updates.size(), 1u);
+}
+
+// First hits carry the triangle and barycentrics only on instances whose mesh the frame's
+// commit deformed (the coordinator reprojects those by their vertices' motion); elsewhere the
+// planes stay empty, as zeros zstd removes.
+TEST_F(FrameWorkerTest, FirstHitsNameTrianglesOnlyOfDeformedInstances) {
+    const uint32_t mesh = state_.meshes.begin()->first;
+    send(Commit{
+        1, 0, false, {UpdateVertexRange{mesh, 0, {state_.meshes.at(mesh).positions[0]}, {}, {}}}});
+    tiles_.clear();
+    render(1, true);
+    ASSERT_EQ(tiles_.size(), 1u);
+    auto t = wire::decode_tile(tiles_[0]);
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    auto hits = decode_first_hits(t->first_hits_zstd, 16 * 4);
+    ASSERT_TRUE(hits.ok()) << hits.error().message;
+    int deformed = 0, still = 0;
+    for (const FirstHit& h : *hits) {
+        ASSERT_TRUE(h.hit());
+        if (state_.instances.at(h.instance).mesh == mesh) {
+            ++deformed;
+            EXPECT_EQ(h.primitive, 3u);
+            EXPECT_EQ(h.u, 0.25f);
+            EXPECT_EQ(h.v, 0.5f);
+        } else {
+            ++still;
+            EXPECT_EQ(h.primitive, FirstHit::kNone);
+            EXPECT_EQ(h.u, 0.0f);
+            EXPECT_EQ(h.v, 0.0f);
+        }
+    }
+    EXPECT_GT(deformed, 0);
+    EXPECT_GT(still, 0);
 }
 
 }  // namespace

@@ -230,8 +230,9 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
     return radiance;
 }
 
-// What a camera ray meets first, as FirstHit's 9 words (common/film/first_hits.h): distance,
-// instance, shading normal facing the ray, base colour, flags (PathTracer::first_hit).
+// What a camera ray meets first, as FirstHit's 12 words (common/film/first_hits.h): distance,
+// instance, shading normal facing the ray, base colour, flags, triangle and barycentrics
+// (PathTracer::first_hit).
 #define PF_SHARP_MAX_ALPHA 0.04f
 void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) {
     PfHit hit;
@@ -241,6 +242,8 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
         out[1] = as_float(0xffffffffu);
         for (int w = 2; w < 8; ++w) out[w] = 0.0f;
         out[8] = as_float(0u);
+        out[9] = as_float(0xffffffffu);
+        out[10] = out[11] = 0.0f;
         return;
     }
     PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
@@ -254,6 +257,8 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
     out[2] = n.x, out[3] = n.y, out[4] = n.z;
     out[5] = mp.base_color.x, out[6] = mp.base_color.y, out[7] = mp.base_color.z;
     out[8] = as_float(sharp ? 1u : 0u);
+    out[9] = as_float(hit.prim);
+    out[10] = hit.u, out[11] = hit.v;
 }
 
 // The camera ray through (px, py) in pixels (generate_camera_ray).
@@ -272,7 +277,7 @@ PfRay pf_camera_ray(const PfFrameParams* fp, float px, float py) {
 
 // One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples. out holds
 // (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel;
-// first_hits, when fp.first_hits is set, the centre ray's first hit (8 words per pixel).
+// first_hits, when fp.first_hits is set, the centre ray's first hit (12 words per pixel).
 #define PF_KERNEL_PARAM(name, type) __global const type* name,
 #define PF_SCENE_INIT(name, type) name,
 __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
@@ -307,7 +312,7 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
     }
     const size_t o = (size_t)row * (size_t)fp.width + (size_t)x;
     if (fp.first_hits)
-        pf_first_hit(&s, pf_camera_ray(&fp, (float)x + 0.5f, (float)y + 0.5f), first_hits + 9 * o,
+        pf_first_hit(&s, pf_camera_ray(&fp, (float)x + 0.5f, (float)y + 0.5f), first_hits + 12 * o,
                      &rays);
 #ifdef cl_khr_fp64
     const double inv_spp = 1.0 / (double)max(fp.spp, 1);

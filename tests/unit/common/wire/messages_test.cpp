@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "common/film/first_hits.h"
 #include "common/net/framing.h"
+#include "common/sampling/rng.h"
 #include "pathfarm/wire/v1/envelope.pb.h"
 
 namespace pathfarm::wire {
@@ -160,6 +162,42 @@ TEST(WireMessages, CommitsAreParsedOnceAndReassembledFromTheirChunks) {
 TEST(WireMessages, MessagesNotForTracersAreRefused) {
     expect_error(decode_for_tracer(encode_tile(tile_of(0, 4, 48, 1.0))), "not for tracers");
     expect_error(decode_for_tracer("garbage"), "malformed");
+}
+
+// Tile.first_hits_zstd: every plane survives, ids and flags exactly, the rest to half
+// precision; a payload of another pixel count is an error.
+TEST(FirstHitsCodec, EveryPlaneSurvivesTheRoundTrip) {
+    Pcg32 rng(11);
+    std::vector<FirstHit> hits(300);
+    for (FirstHit& h : hits) {
+        if (rng.next_float() < 0.2f) continue;  // a miss
+        h = FirstHit{1.0f + 50.0f * rng.next_float(),
+                     rng.next_u32(),
+                     Vec3(rng.next_float(), -rng.next_float(), rng.next_float()),
+                     Rgb(rng.next_float(), rng.next_float(), rng.next_float()),
+                     rng.next_float() < 0.5f ? FirstHit::kSharp : 0u,
+                     rng.next_float() < 0.5f ? FirstHit::kNone : rng.next_u32(),
+                     rng.next_float(),
+                     rng.next_float()};
+    }
+    const std::string wire = encode_first_hits(hits.data(), hits.size());
+    auto back = decode_first_hits(wire, hits.size());
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        const FirstHit &a = hits[i], &b = (*back)[i];
+        EXPECT_EQ(a.distance, b.distance);
+        EXPECT_EQ(a.instance, b.instance);
+        EXPECT_EQ(a.flags, b.flags);
+        EXPECT_EQ(a.primitive, b.primitive);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(a.normal[c], b.normal[c], 1e-3f);
+            EXPECT_NEAR(a.albedo[c], b.albedo[c], 1e-3f);
+        }
+        EXPECT_NEAR(a.u, b.u, 1e-3f);
+        EXPECT_NEAR(a.v, b.v, 1e-3f);
+    }
+    EXPECT_FALSE(decode_first_hits(wire, hits.size() + 1).ok());
+    EXPECT_FALSE(decode_first_hits(wire, hits.size() - 1).ok());
 }
 
 }  // namespace
