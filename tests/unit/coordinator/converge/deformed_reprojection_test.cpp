@@ -109,7 +109,9 @@ TEST(DeformedReprojection, HistoryComesFromWhereTheTriangleWas) {
             float px = 0.0f, py = 0.0f;
             ASSERT_TRUE(project.point(v2.gbuffer.position[i] - step, px, py));
             const Rgb from = 2.0f * img.pixel(x, y) + Rgb(x + 0.5f, y + 0.5f, 0.0f);
-            EXPECT_LE(std::abs(from.x - (std::floor(px) + 0.5f)), 1.0f) << x << "," << y << " from " << from.x << "," << from.y << " want " << px << "," << py;
+            EXPECT_LE(std::abs(from.x - (std::floor(px) + 0.5f)), 1.0f)
+                << x << "," << y << " from " << from.x << "," << from.y << " want " << px << ","
+                << py;
             EXPECT_LE(std::abs(from.y - (std::floor(py) + 0.5f)), 1.0f) << x << "," << y;
             exact += from.x == std::floor(px) + 0.5f && from.y == std::floor(py) + 0.5f;
             EXPECT_GT(std::abs(from.x - (x + 0.5f)) + std::abs(from.y - (y + 0.5f)), 1.5f)
