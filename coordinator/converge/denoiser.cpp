@@ -32,6 +32,29 @@ void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<flo
     });
 }
 
+// The mean base colour over each pixel's footprint, which its jittered samples saw, from the
+// centre hits: the box average of their linear interpolant, weights 1/8, 3/4, 1/8 per axis
+// (edges replicated). Dividing a pixel's light by its centre's base colour alone blew it up
+// where a texture edge crosses the pixel (samples on a white texel, the centre on a dark-blue
+// one: blue light 18 times too bright), and the filter spread that.
+void footprint_mean(std::vector<Rgb>& a, std::vector<Rgb>& tmp, int w, int h) {
+    tmp.resize(a.size());
+    parallel_rows(h, [&](int y) {
+        const Rgb* in = &a[std::size_t(y) * w];
+        Rgb* t = &tmp[std::size_t(y) * w];
+        for (int x = 0; x < w; ++x)
+            t[x] = 0.125f * (in[std::max(0, x - 1)] + in[std::min(w - 1, x + 1)]) + 0.75f * in[x];
+    });
+    parallel_rows(h, [&](int y) {
+        const Rgb* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
+        const Rgb* mid = &tmp[std::size_t(y) * w];
+        const Rgb* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
+        Rgb* o = &a[std::size_t(y) * w];
+        for (int x = 0; x < w; ++x)
+            o[x] = 0.125f * (up[x] + down[x]) + 0.75f * mid[x];
+    });
+}
+
 }  // namespace
 
 // The frame's G-buffer into the filter's guide: which pixels it filters, and their base colour.
@@ -68,12 +91,15 @@ void Denoiser::prepare(const GBuffer& g, const Camera& camera) {
         for (int x = 0; x < w; ++x)
             mask[x] = uint8_t(instance[x] != GBuffer::kNoInstance) &
                       uint8_t((up[x] | mid[x] | down[x]) == 0);
-        const float* base = &g.albedo[row].x;
-        float* albedo = &albedo_[row].x;
-        for (int j = 0; j < 3 * w; ++j)
-            albedo[j] = std::max(base[j], o_.albedo_floor);
+        std::copy(g.albedo.begin() + row, g.albedo.begin() + row + w, albedo_.begin() + row);
         for (int x = 0; x < w; ++x)
             if (instance[x] == GBuffer::kNoInstance) albedo_[row + x] = Rgb(1.0f);
+    });
+    footprint_mean(albedo_, albedo_tmp_, w, h);
+    parallel_rows(h, [&](int y) {
+        float* albedo = &albedo_[std::size_t(y) * w].x;
+        for (int j = 0; j < 3 * w; ++j)
+            albedo[j] = std::max(albedo[j], o_.albedo_floor);
     });
     atrous_.set_guide(g, camera, filter_mask_);
 }
