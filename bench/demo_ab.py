@@ -30,6 +30,9 @@ def demo(bin_dir, out_dir, frames):
     pixels = statistics.mean(float(r["render_width"]) * float(r["render_height"]) for r in stats)
     spp = statistics.mean(float(r["spp"]) for r in stats)
     rr = statistics.mean(float(r["rr_scale"]) for r in stats)
+    # What the tracers send per rendered pixel (colour and first hits, compressed).
+    tile_bpp = statistics.mean(float(r["tile_bytes"]) / (float(r["render_width"]) * float(r["render_height"]))
+                               for r in stats)
     # The denoiser's time on the display thread, while the tracers render the next frame.
     denoise = [float(r["denoise_ms"]) for r in stats if float(r.get("denoise_ms") or 0.0) > 0.0]
     busy, update = {}, {}
@@ -41,11 +44,12 @@ def demo(bin_dir, out_dir, frames):
     return {"fps": fps, "pixels": pixels, "spp": spp, "rr_scale": rr, "render_pct": render_pct,
             "update_pct": update_pct, "latency_p50_ms": latency.get("latency_p50_ms", 0.0),
             "latency_p99_ms": latency.get("latency_p99_ms", 0.0),
-            "denoise_ms_p50": statistics.median(denoise) if denoise else 0.0}
+            "denoise_ms_p50": statistics.median(denoise) if denoise else 0.0,
+            "tile_bytes_per_px": tile_bpp}
 
 
 KEYS = ["fps", "pixels", "spp", "rr_scale", "render_pct", "update_pct", "latency_p50_ms",
-        "latency_p99_ms", "denoise_ms_p50"]
+        "latency_p99_ms", "denoise_ms_p50", "tile_bytes_per_px"]
 
 
 def plot(out, rounds):

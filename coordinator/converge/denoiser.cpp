@@ -35,9 +35,9 @@ void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<flo
 // The mean base colour over each pixel's footprint, which its jittered samples saw, from the
 // centre hits: the box average of their linear interpolant, weights 1/8, 3/4, 1/8 per axis
 // (edges replicated). Dividing a pixel's light by its centre's base colour alone blew it up
-// where a texture edge crosses the pixel (samples on a white texel, the centre on a dark-blue
-// one: blue light 18 times too bright), and the filter spread that.
-void footprint_mean(std::vector<Rgb>& a, std::vector<Rgb>& tmp, int w, int h) {
+// where a texture edge crosses the pixel (samples on a white texel divided by a saturated blue
+// centre: red light 16 times too bright), and the filter spread that. Held at least `floor`.
+void footprint_mean(std::vector<Rgb>& a, std::vector<Rgb>& tmp, int w, int h, float floor) {
     tmp.resize(a.size());
     parallel_rows(h, [&](int y) {
         const Rgb* in = &a[std::size_t(y) * w];
@@ -51,7 +51,7 @@ void footprint_mean(std::vector<Rgb>& a, std::vector<Rgb>& tmp, int w, int h) {
         const Rgb* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
         Rgb* o = &a[std::size_t(y) * w];
         for (int x = 0; x < w; ++x)
-            o[x] = 0.125f * (up[x] + down[x]) + 0.75f * mid[x];
+            o[x] = glm::max(0.125f * (up[x] + down[x]) + 0.75f * mid[x], Rgb(floor));
     });
 }
 
@@ -95,12 +95,7 @@ void Denoiser::prepare(const GBuffer& g, const Camera& camera) {
         for (int x = 0; x < w; ++x)
             if (instance[x] == GBuffer::kNoInstance) albedo_[row + x] = Rgb(1.0f);
     });
-    footprint_mean(albedo_, albedo_tmp_, w, h);
-    parallel_rows(h, [&](int y) {
-        float* albedo = &albedo_[std::size_t(y) * w].x;
-        for (int j = 0; j < 3 * w; ++j)
-            albedo[j] = std::max(albedo[j], o_.albedo_floor);
-    });
+    footprint_mean(albedo_, albedo_tmp_, w, h, o_.albedo_floor);
     atrous_.set_guide(g, camera, filter_mask_);
 }
 
