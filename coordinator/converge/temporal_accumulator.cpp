@@ -71,6 +71,10 @@ struct Motion {
     std::vector<const Mat4*> motion;               // by id: into to_previous, or null
     std::map<uint32_t, Deformation> deformations;  // deformed instances with vertices known
     std::vector<const Deformation*> deformation;   // by id: into deformations, or null
+    // Per pixel, 1 within a pixel of a moving instance in this frame's G-buffer and in the
+    // last's (near_moving); null when nothing moved.
+    const uint8_t* near_now = nullptr;
+    const uint8_t* near_prev = nullptr;
     const FrameView* prev = nullptr;
     const FrameView* view = nullptr;
 
@@ -158,7 +162,40 @@ Motion motion_between(const FrameView& prev, const FrameView& view, const Surfac
     return m;
 }
 
+// Pixels of `g` within one pixel of a moving instance: their jittered samples may have seen
+// it, so their light moves with it even where their centre ray meets a still surface or the
+// sky. A 3x3 dilation, rows then columns.
+void near_moving(const GBuffer& g, const Motion& m, std::vector<uint8_t>& tmp,
+                 std::vector<uint8_t>& out) {
+    const int w = g.width, h = g.height;
+    tmp.resize(g.instance.size());
+    out.resize(g.instance.size());
+    const auto moving = [&](std::size_t i) {
+        const uint32_t id = g.instance[i];
+        return uint8_t(id != GBuffer::kNoInstance && (m.flags_of(id) & Motion::kMoving));
+    };
+    for (int y = 0; y < h; ++y) {
+        const std::size_t row = std::size_t(y) * w;
+        for (int x = 0; x < w; ++x)
+            out[row + x] = moving(row + x);
+        for (int x = 0; x < w; ++x)
+            tmp[row + x] =
+                out[row + std::max(0, x - 1)] | out[row + x] | out[row + std::min(w - 1, x + 1)];
+    }
+    for (int y = 0; y < h; ++y) {
+        const uint8_t* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
+        const uint8_t* mid = &tmp[std::size_t(y) * w];
+        const uint8_t* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
+        uint8_t* o = &out[std::size_t(y) * w];
+        for (int x = 0; x < w; ++x)
+            o[x] = up[x] | mid[x] | down[x];
+    }
+}
+
 // Where pixel (x, y)'s surface was last frame, and whether the history pixel there saw it.
+// A pixel next to a moving instance, now or in the history, counts as moving (near_moving).
+// Otherwise a wall or sky pixel at a moving figure's silhouette kept the figure's edge samples
+// as a running mean (f = 1/k) after it had walked away: a ghost outline.
 struct Reprojection {
     bool valid = false;
     int hx = 0, hy = 0;  // the history pixel
@@ -174,7 +211,7 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
     const uint32_t inst = g.instance[i];
     const uint8_t flags = inst == GBuffer::kNoInstance ? 0 : m.flags_of(inst);
     Reprojection r;
-    r.object_moves = flags & Motion::kMoving;
+    r.object_moves = (flags & Motion::kMoving) || (m.near_now && m.near_now[i]);
     float px = x + 0.5f, py = y + 0.5f;
     bool on_screen = true;
     float expected = g.distance[i];
@@ -200,6 +237,7 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
     r.hy = int(std::floor(py));
     if (!on_screen || r.hx < 0 || r.hy < 0 || r.hx >= w || r.hy >= h) return r;
     const std::size_t j = std::size_t(r.hy) * w + r.hx;
+    if (m.near_prev && m.near_prev[j]) r.object_moves = true;  // clamped and floored
     if (!m.camera_moved && !r.object_moves) {
         // The same pixel footprint over still surfaces: its history holds whichever of them
         // the G-buffer names (it changes at edges when workload scaling changes the render
@@ -268,8 +306,13 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
         return {1.0, 0.0, 1.0};
     }
     const FrameView& prev = *previous_;
-    const Motion motion =
-        motion_between(prev, view, last_surfaces_);  // camera and instances since `prev`
+    Motion motion = motion_between(prev, view, last_surfaces_);  // camera, instances since prev
+    if (!motion.moving.empty()) {
+        near_moving(view.gbuffer, motion, near_tmp_, near_now_);
+        near_moving(prev.gbuffer, motion, near_tmp_, near_prev_);
+        motion.near_now = near_now_.data();
+        motion.near_prev = near_prev_.data();
+    }
     const CameraProjector project_prev(prev.camera, w, h);
     const CameraRays camera_ray(view.camera, w, h);
     // Every pixel of these is written below; kept from frame to frame to spare the allocations.
@@ -297,9 +340,14 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     Rgb history = history_.pixel(r.hx, r.hy);
                     float k = frames_[std::size_t(r.hy) * w + r.hx] + 1.0f;
                     if (motion.camera_moved || r.object_moves) {
+                        // The sky's light is exact sample by sample: what varied in a sky
+                        // pixel's history was a silhouette's edge, no noise to allow for.
+                        const bool sky =
+                            view.gbuffer.instance[std::size_t(y) * w + x] == GBuffer::kNoInstance;
                         history =
                             clamp_history(history, neighbourhood_, std::size_t(y) * w + x,
-                                          moments_[std::size_t(r.hy) * w + r.hx], o_.clamp_sigmas);
+                                          sky ? Vec2(0.0f) : moments_[std::size_t(r.hy) * w + r.hx],
+                                          o_.clamp_sigmas);
                         const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
                         k = std::min(k, 1.0f / floor);
                     }

@@ -84,6 +84,7 @@ private:
     std::vector<float> next_frames_;
     std::vector<Vec2> next_moments_;
     NeighbourhoodStats neighbourhood_;  // of the new frame, for the history clamp
+    std::vector<uint8_t> near_now_, near_prev_, near_tmp_;  // near a moving instance, per pixel
 };
 
 }  // namespace pathfarm::coord
