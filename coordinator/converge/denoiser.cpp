@@ -39,19 +39,27 @@ void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<flo
 // centre: red light 16 times too bright), and the filter spread that. Held at least `floor`.
 void footprint_mean(std::vector<Rgb>& a, std::vector<Rgb>& tmp, int w, int h, float floor) {
     tmp.resize(a.size());
+    // Over a row's 3w floats: the neighbours of channel c of pixel x are 3 floats away. The
+    // interior loops have no clamps, so they vectorise.
     parallel_rows(h, [&](int y) {
-        const Rgb* in = &a[std::size_t(y) * w];
-        Rgb* t = &tmp[std::size_t(y) * w];
-        for (int x = 0; x < w; ++x)
-            t[x] = 0.125f * (in[std::max(0, x - 1)] + in[std::min(w - 1, x + 1)]) + 0.75f * in[x];
+        const float* in = &a[std::size_t(y) * w].x;
+        float* t = &tmp[std::size_t(y) * w].x;
+        const int n = 3 * w;
+        for (int j = 3; j + 3 < n; ++j)
+            t[j] = 0.125f * (in[j - 3] + in[j + 3]) + 0.75f * in[j];
+        for (int c = 0; c < 3; ++c) {
+            const int next = std::min(c + 3, n - 3 + c), before = std::max(c, n - 6 + c);
+            t[c] = 0.125f * (in[c] + in[next]) + 0.75f * in[c];
+            t[n - 3 + c] = 0.125f * (in[before] + in[n - 3 + c]) + 0.75f * in[n - 3 + c];
+        }
     });
     parallel_rows(h, [&](int y) {
-        const Rgb* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
-        const Rgb* mid = &tmp[std::size_t(y) * w];
-        const Rgb* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
-        Rgb* o = &a[std::size_t(y) * w];
-        for (int x = 0; x < w; ++x)
-            o[x] = glm::max(0.125f * (up[x] + down[x]) + 0.75f * mid[x], Rgb(floor));
+        const float* up = &tmp[std::size_t(std::max(0, y - 1)) * w].x;
+        const float* mid = &tmp[std::size_t(y) * w].x;
+        const float* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w].x;
+        float* o = &a[std::size_t(y) * w].x;
+        for (int j = 0; j < 3 * w; ++j)
+            o[j] = std::max(0.125f * (up[j] + down[j]) + 0.75f * mid[j], floor);
     });
 }
 
