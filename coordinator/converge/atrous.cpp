@@ -184,10 +184,19 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
         pad_ = pad;
         stride_ = width_ + 2 * pad_;
         const std::size_t n = std::size_t(stride_) * std::size_t(height_ + 2 * pad_);
-        for (std::vector<float>* p :
-             {&nx_, &ny_, &nz_, &z_, &slope_, &offset_, &inv_plane_, &rgb_[0][0], &rgb_[0][1],
-              &rgb_[0][2], &rgb_[1][0], &rgb_[1][1], &rgb_[1][2], &var_[0], &var_[1], &inv_lum_})
-            p->assign(n, 0.0f);  // the padding stays zero: a zero normal is no one's tap
+        float** planes[] = {&nx_,        &ny_,        &nz_,        &z_,
+                            &slope_,     &offset_,    &inv_plane_, &rgb_[0][0],
+                            &rgb_[0][1], &rgb_[0][2], &rgb_[1][0], &rgb_[1][1],
+                            &rgb_[1][2], &var_[0],    &var_[1],    &inv_lum_};
+        constexpr std::size_t kPage = 1024, kStagger = 16;  // in floats: 4 KiB, 64 bytes
+        const std::size_t plane = (n + kPage - 1) / kPage * kPage + kStagger;
+        planes_.assign(plane * std::size(planes) + kPage, 0.0f);  // the padding stays zero
+        // From the first page boundary in the allocation (a zero normal is no one's tap).
+        const std::size_t first =
+            (kPage - (reinterpret_cast<std::uintptr_t>(planes_.data()) / sizeof(float)) % kPage) %
+            kPage;
+        for (std::size_t p = 0; p < std::size(planes); ++p)
+            *planes[p] = planes_.data() + first + p * plane;
     }
     // Camera space: normals rotated into it, points as depth along the view axis times the
     // pixel centre's film point (x, y, -1) at unit depth (generate_camera_ray's inverse).
@@ -252,8 +261,8 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance,
 // tolerance (from the 3x3 Gaussian of the variance, edges replicated: SVGF's, less noisy than
 // one pixel's), then the taps.
 void AtrousFilter::level(int step, int from, float sigma_l) {
-    const std::vector<float>(&in)[3] = rgb_[from];
-    const std::vector<float>& var = var_[from];
+    float* const(&in)[3] = rgb_[from];
+    const float* var = var_[from];
     const int w = width_, h = height_;
     const auto row_start = [&](int y) { return std::size_t(y + pad_) * stride_ + pad_; };
     const Taps taps = taps_of(o_.radius, step, stride_, pitch_);

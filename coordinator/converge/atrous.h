@@ -48,10 +48,15 @@ private:
     float pitch_ = 0.0f;  // a pixel's width on the film at unit depth
     // Guide (padded, camera space): normal, depth along the view axis, n . film point, n .
     // point, inverse plane tolerance (0: not filtered).
-    std::vector<float> nx_, ny_, nz_, z_, slope_, offset_, inv_plane_;
+    float *nx_ = nullptr, *ny_ = nullptr, *nz_ = nullptr, *z_ = nullptr, *slope_ = nullptr,
+          *offset_ = nullptr, *inv_plane_ = nullptr;
     std::vector<float> film_x_;  // per column: the pixel centre's film x at unit depth
     // Colour and variance, in and out of a level (padded), and the luminance tolerance's inverse.
-    std::vector<float> rgb_[2][3], var_[2], inv_lum_;
+    float *rgb_[2][3] = {}, *var_[2] = {}, *inv_lum_ = nullptr;
+    // The 16 planes above, in one allocation, each starting 64 bytes further into a 4 KiB page
+    // than the last: a tap reads the same pixel of every plane, and planes at one page offset
+    // (separate allocations, each page-aligned) compete for the same cache sets.
+    std::vector<float> planes_;
 };
 
 }  // namespace pathfarm::coord

@@ -21,11 +21,13 @@ struct Totals {
 // deviations, widened by one frame's own noise (from the history's moments `mh`): a
 // neighbourhood of sparse samples (mostly dark, a few bright) says little about the mean, and
 // clamping to it alone darkened such scenes (a Sponza walk to 0.44 of its brightness).
+// Not on the sky, whose light is exact sample by sample: what varied in a sky pixel's history
+// was a silhouette's edge, no noise to allow for.
 Rgb clamp_history(const Rgb& history, const NeighbourhoodStats& nb, std::size_t pixel,
-                  const Vec2& mh, float sigmas) {
+                  const Vec2& mh, float sigmas, bool sky) {
     const Rgb mean = nb.mean(pixel);
-    const Rgb bound =
-        sigmas * (nb.sigma(pixel) + Rgb(std::sqrt(std::max(0.0f, mh.y - mh.x * mh.x))));
+    const float noise = sky ? 0.0f : std::sqrt(std::max(0.0f, mh.y - mh.x * mh.x));
+    const Rgb bound = sigmas * (nb.sigma(pixel) + Rgb(noise));
     return glm::clamp(history, mean - bound, mean + bound);
 }
 
@@ -192,6 +194,15 @@ void near_moving(const GBuffer& g, const Motion& m, std::vector<uint8_t>& tmp,
     }
 }
 
+// Both frames' near_moving masks, for reproject.
+void mark_near_moving(Motion& m, std::vector<uint8_t>& tmp, std::vector<uint8_t>& now,
+                      std::vector<uint8_t>& before) {
+    near_moving(m.view->gbuffer, m, tmp, now);
+    near_moving(m.prev->gbuffer, m, tmp, before);
+    m.near_now = now.data();
+    m.near_prev = before.data();
+}
+
 // Where pixel (x, y)'s surface was last frame, and whether the history pixel there saw it.
 // A pixel next to a moving instance, now or in the history, counts as moving (near_moving).
 // Otherwise a wall or sky pixel at a moving figure's silhouette kept the figure's edge samples
@@ -307,15 +318,10 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     }
     const FrameView& prev = *previous_;
     Motion motion = motion_between(prev, view, last_surfaces_);  // camera, instances since prev
-    if (!motion.moving.empty()) {
-        near_moving(view.gbuffer, motion, near_tmp_, near_now_);
-        near_moving(prev.gbuffer, motion, near_tmp_, near_prev_);
-        motion.near_now = near_now_.data();
-        motion.near_prev = near_prev_.data();
-    }
+    if (!motion.moving.empty()) mark_near_moving(motion, near_tmp_, near_now_, near_prev_);
     const CameraProjector project_prev(prev.camera, w, h);
     const CameraRays camera_ray(view.camera, w, h);
-    // Every pixel of these is written below; kept from frame to frame to spare the allocations.
+    // Every pixel of these is written below, kept from frame to frame (spares allocations).
     if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
     next_frames_.resize(n), next_moments_.resize(n);
     if (motion.camera_moved || !motion.moving.empty()) neighbourhood_.compute(image);
@@ -333,21 +339,16 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     if (!r.valid) {
                         next_history_.set_pixel(x, y, c);
                         next_frames_[std::size_t(y) * w + x] = 1.0f;
-                        t.f += 1.0;
-                        t.frames += 1.0;
+                        t.f += 1.0, t.frames += 1.0;
                         continue;
                     }
                     Rgb history = history_.pixel(r.hx, r.hy);
                     float k = frames_[std::size_t(r.hy) * w + r.hx] + 1.0f;
                     if (motion.camera_moved || r.object_moves) {
-                        // The sky's light is exact sample by sample: what varied in a sky
-                        // pixel's history was a silhouette's edge, no noise to allow for.
-                        const bool sky =
-                            view.gbuffer.instance[std::size_t(y) * w + x] == GBuffer::kNoInstance;
-                        history =
-                            clamp_history(history, neighbourhood_, std::size_t(y) * w + x,
-                                          sky ? Vec2(0.0f) : moments_[std::size_t(r.hy) * w + r.hx],
-                                          o_.clamp_sigmas);
+                        const std::size_t i = std::size_t(y) * w + x;
+                        history = clamp_history(history, neighbourhood_, i,
+                                                moments_[std::size_t(r.hy) * w + r.hx],
+                                                o_.clamp_sigmas, !view.gbuffer.hit(i));
                         const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
                         k = std::min(k, 1.0f / floor);
                     }
