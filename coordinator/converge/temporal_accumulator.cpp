@@ -8,6 +8,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "common/math/transform.h"
+#include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
 namespace {
@@ -176,22 +177,22 @@ void near_moving(const GBuffer& g, const Motion& m, std::vector<uint8_t>& tmp,
         const uint32_t id = g.instance[i];
         return uint8_t(id != GBuffer::kNoInstance && (m.flags_of(id) & Motion::kMoving));
     };
-    for (int y = 0; y < h; ++y) {
+    parallel_rows(h, [&](int y) {  // the moving pixels, dilated along the row
         const std::size_t row = std::size_t(y) * w;
         for (int x = 0; x < w; ++x)
             out[row + x] = moving(row + x);
         for (int x = 0; x < w; ++x)
             tmp[row + x] =
                 out[row + std::max(0, x - 1)] | out[row + x] | out[row + std::min(w - 1, x + 1)];
-    }
-    for (int y = 0; y < h; ++y) {
+    });
+    parallel_rows(h, [&](int y) {  // then along the column
         const uint8_t* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
         const uint8_t* mid = &tmp[std::size_t(y) * w];
         const uint8_t* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
         uint8_t* o = &out[std::size_t(y) * w];
         for (int x = 0; x < w; ++x)
             o[x] = up[x] | mid[x] | down[x];
-    }
+    });
 }
 
 // Both frames' near_moving masks, for reproject.
