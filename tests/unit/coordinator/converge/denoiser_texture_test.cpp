@@ -44,13 +44,15 @@ SceneModel striped_cornell(int stripes) {
 }
 
 FloatImage render(const SceneModel& scene, uint32_t k, int spp) {
-    test::RenderRequest r;
-    r.width = kW;
-    r.height = kH;
-    r.spp = spp;
-    r.frame = k;
-    r.seed = 5;
-    return test::render(scene, r);
+    return test::render(scene, test::RenderRequest{.width = kW,
+                                                   .height = kH,
+                                                   .spp = spp,
+                                                   .seed = 5,
+                                                   .frame = k,
+                                                   .threads = 2,
+                                                   .integrator = {},
+                                                   .row_splits = {},
+                                                   .backend = test::default_backend()});
 }
 
 // 16 and 24 stripe pairs across the wall: periods of about 2.4 and 1.6 pixels. With the
