@@ -47,11 +47,16 @@ class BrowserTest(unittest.TestCase):
         self.assertTrue(browser.evaluate("window.pathfarm.connected"))
         header = browser.evaluate("window.pathfarm.lastHeader")
         self.assertEqual((header["width"], header["height"], header["codec"]), (256, 144, codec))
-        # A still camera converges: frames differ little from one to the next.
-        browser.evaluate(SNAPSHOT)
-        start = browser.evaluate("window.pathfarm.frames")
-        browser.wait_until(f"window.pathfarm.frames >= {start + 4}")
-        still = browser.evaluate(CHANGE)
+        # A still camera converges: frames differ little from one to the next. The game's
+        # ball and lamp move, and workload scaling may change the render size within a window
+        # (every pixel changes then: 9-14 against the usual 3-6, which failed the test now and
+        # then on a loaded machine): the quieter of two windows.
+        still = float("inf")
+        for _ in range(2):
+            browser.evaluate(SNAPSHOT)
+            start = browser.evaluate("window.pathfarm.frames")
+            browser.wait_until(f"window.pathfarm.frames >= {start + 4}")
+            still = min(still, browser.evaluate(CHANGE))
         browser.screenshot(os.path.join(OUT, name + ".png"))
         browser.evaluate(SNAPSHOT)
         browser.key("ArrowLeft", "ArrowLeft", 37, hold_seconds=0.6)
