@@ -55,7 +55,10 @@ Status FrameWorker::update_backend() {
 }
 
 // Instances whose mesh's vertices this commit changed: their first hits carry the triangle
-// and barycentrics (first_hits.h), which the coordinator needs to reproject them.
+// and barycentrics (first_hits.h), which the coordinator needs to reproject them. Kept until
+// the next scene change (a later assignment of the same commit needs them too); a commit that
+// changes nothing keeps the last one's, a few bytes more that the coordinator ignores: it reads
+// them only for instances its own view says deformed.
 void FrameWorker::mark_deformed(const SceneChanges& changes) {
     std::vector<uint8_t> mesh_deformed(scene_.meshes.size(), changes.structure ? 1 : 0);
     for (const uint32_t m : changes.mesh_vertices)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coordinator/converge/dilate.h"
 #include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
@@ -78,16 +79,7 @@ void Denoiser::prepare(const GBuffer& g, const Camera& camera) {
     albedo_.resize(n);
     // Loops over bytes and floats without clamps inside a row, so that they vectorise.
     parallel_rows(h, [&](int y) {
-        const uint8_t* sharp = &g.sharp[std::size_t(y) * w];
-        uint8_t* dilated = &near_sharp_[std::size_t(y) * w];
-        if (w == 1) {
-            dilated[0] = sharp[0];
-            return;
-        }
-        dilated[0] = sharp[0] | sharp[1];
-        for (int x = 1; x + 1 < w; ++x)
-            dilated[x] = sharp[x - 1] | sharp[x] | sharp[x + 1];
-        dilated[w - 1] = sharp[w - 2] | sharp[w - 1];
+        dilate_row(&g.sharp[std::size_t(y) * w], &near_sharp_[std::size_t(y) * w], w);
     });
     parallel_rows(h, [&](int y) {
         const std::size_t row = std::size_t(y) * w;

@@ -8,6 +8,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "common/math/transform.h"
+#include "coordinator/converge/dilate.h"
 #include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
@@ -181,9 +182,7 @@ void near_moving(const GBuffer& g, const Motion& m, std::vector<uint8_t>& tmp,
         const std::size_t row = std::size_t(y) * w;
         for (int x = 0; x < w; ++x)
             out[row + x] = moving(row + x);
-        for (int x = 0; x < w; ++x)
-            tmp[row + x] =
-                out[row + std::max(0, x - 1)] | out[row + x] | out[row + std::min(w - 1, x + 1)];
+        dilate_row(&out[row], &tmp[row], w);
     });
     parallel_rows(h, [&](int y) {  // then along the column
         const uint8_t* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
