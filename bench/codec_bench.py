@@ -7,8 +7,11 @@ Records the frames a client receives (scripts/demo.sh with --dump-frames: builti
 game, the client turning, workload scaling and the denoiser on; cached in bench/cache/codec),
 then runs pathfarm-codec-bench over them: JPEG at several qualities and H.264 at several CRFs,
 one thread, with
-- h264: the coordinator's stream settings (h264_stream_settings: faster, high, zerolatency),
-- h264-veryfast: the stream's settings before 2026-12-03 (veryfast),
+- h264: the coordinator's stream settings (h264_stream_settings: faster up to 320x240 with
+  every partition size, veryfast above, both with deblocking one step stronger; high profile,
+  zerolatency),
+- h264-before: the stream's settings before 2026-12-04 (x264's default partitions and
+  deblocking),
 - h264-psnr: the stream tuned for the PSNR figure (x264's psnr tune: no adaptive quantisation
   or psychovisual optimisation; chroma quantised 6 steps finer): fewer bytes at equal PSNR,
   a lower SSIM than JPEG's.
@@ -52,7 +55,7 @@ def at(rows, key, target, field):
 
 
 VARIANTS = (("h264", "stream", "50,70,80,90,95"),
-            ("h264-veryfast", "veryfast:high:zerolatency", "90"),
+            ("h264-before", "stream:::deblock=0,0/partitions=p8x8,b8x8,i8x8,i4x4", "90"),
             ("h264-psnr", "stream::psnr,zerolatency:chroma-qp-offset=-6", "90"))
 
 
@@ -110,7 +113,7 @@ def main():
 
 def plot(out, table):
     data = os.path.join(out, "codec_bench.dat")
-    codecs = ("jpeg", "h264", "h264-veryfast", "h264-psnr")
+    codecs = ("jpeg", "h264", "h264-before", "h264-psnr")
     with open(data, "w") as f:
         for codec in codecs:
             for size in ((320, 180), (640, 360)):
@@ -120,7 +123,7 @@ def plot(out, table):
                     f.write(f"{r['bytes_mean'] / 1024:.3f} {r['psnr_mean']:.3f} "
                             f"{r['ssim_mean']:.5f}\n")
                 f.write("\n\n")
-    titles = ("JPEG", "H.264 stream (faster)", "H.264 veryfast (before)", "H.264 psnr tune")
+    titles = ("JPEG", "H.264 stream", "H.264 stream before 12-04", "H.264 psnr tune")
     curves = ", ".join(f"'{data}' index {2 * i + j} using 1:COLUMN with linespoints dt {1 + j} "
                        f"lc {i + 1} title '{titles[i]} {size}'"
                        for i in range(len(codecs)) for j, size in enumerate(("320x180", "640x360")))
