@@ -16,7 +16,8 @@
 // pair's first; empty elsewhere) and writes `<out>/denoise_<path>_strip.png` (raw, converging,
 // denoised, reference at the strip frame). Arguments: path, scenes folder, cache folder, out
 // folder, frames (121), reference spp (512), strip frame (60), the wavelet's kernel radius (1)
-// and levels (5), the luminance edge's sigma (8).
+// and levels (5), the luminance edge's sigma (8), the temporal anti-aliasing's blend factor
+// (DenoiseOptions::taa_alpha; 0: off).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -226,7 +227,7 @@ int main(int argc, char** argv) {
     if (argc < 5) {
         std::fprintf(stderr,
                      "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
-                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L]\n");
+                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L] [TAA_ALPHA]\n");
         return 2;
     }
     init_logging("denoise-bench", "warn");
@@ -240,6 +241,7 @@ int main(int argc, char** argv) {
     if (argc > 8) a.denoise.atrous.radius = std::atoi(argv[8]);
     if (argc > 9) a.denoise.atrous.levels = std::atoi(argv[9]);
     if (argc > 10) a.denoise.atrous.sigma_luminance = float(std::atof(argv[10]));
+    if (argc > 11) a.denoise.taa_alpha = float(std::atof(argv[11]));
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

@@ -175,6 +175,7 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
             for (int c = 0; c < 3; ++c)
                 image.rgb[3 * i + c] *= albedo_[i][c];
     });
+    if (temporal && o_.taa_alpha > 0.0f) taa_.apply(image, accumulator_.sources());
     output_ = image;
     return stats;
 }

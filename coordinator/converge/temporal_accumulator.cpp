@@ -211,6 +211,7 @@ struct Reprojection {
     bool valid = false;
     int hx = 0, hy = 0;  // the history pixel
     bool object_moves = false;
+    Vec2 source{kNoSource};  // where the surface was in the last frame's pixels, if on screen
 };
 
 Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
@@ -247,6 +248,7 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
     r.hx = int(std::floor(px));
     r.hy = int(std::floor(py));
     if (!on_screen || r.hx < 0 || r.hy < 0 || r.hx >= w || r.hy >= h) return r;
+    r.source = Vec2(px, py);
     const std::size_t j = std::size_t(r.hy) * w + r.hx;
     if (m.near_prev && m.near_prev[j]) r.object_moves = true;  // clamped and floored
     if (!m.camera_moved && !r.object_moves) {
@@ -277,6 +279,7 @@ void TemporalAccumulator::reset() {
     history_ = FloatImage();
     frames_.clear();
     moments_.clear();
+    sources_.clear();
 }
 
 void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
@@ -284,6 +287,7 @@ void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
     history_ = image;
     frames_.assign(n, 1.0f);
     moments_.resize(n);
+    sources_.assign(n, Vec2(kNoSource));
     for (std::size_t i = 0; i < n; ++i) {
         const float l =
             luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
@@ -323,7 +327,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     const CameraRays camera_ray(view.camera, w, h);
     // Every pixel of these is written below, kept from frame to frame (spares allocations).
     if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
-    next_frames_.resize(n), next_moments_.resize(n);
+    next_frames_.resize(n), next_moments_.resize(n), sources_.resize(n);
     if (motion.camera_moved || !motion.moving.empty()) neighbourhood_.compute(image);
     const Totals totals = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h), Totals{},
@@ -336,6 +340,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     m = Vec2(l, l * l);
                     const Reprojection r = reproject(motion, project_prev, camera_ray, prev, view,
                                                      o_.depth_tolerance, x, y);
+                    sources_[std::size_t(y) * w + x] = r.object_moves ? Vec2(kNoSource) : r.source;
                     if (!r.valid) {
                         next_history_.set_pixel(x, y, c);
                         next_frames_[std::size_t(y) * w + x] = 1.0f;
@@ -357,9 +362,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
                     m = mh + f * (m - mh);
                     next_frames_[std::size_t(y) * w + x] = k;
-                    t.f += f;
-                    t.kept += 1.0;
-                    t.frames += k;
+                    t.f += f, t.kept += 1.0, t.frames += k;
                 }
             return t;
         },

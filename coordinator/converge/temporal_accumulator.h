@@ -45,6 +45,9 @@ struct ConvergeOptions {
     float depth_tolerance = 0.03f;  // relative distance mismatch that rejects history
 };
 
+// TemporalAccumulator::sources() of a pixel whose surface was off screen (or not known).
+inline constexpr float kNoSource = -1.0f;
+
 struct ConvergeStats {
     double mean_f = 1.0;       // mean blend factor over the frame's pixels
     double kept = 0.0;         // fraction of pixels that kept history
@@ -64,6 +67,12 @@ public:
     // first two moments), blended with the same factors: their difference is the variance of
     // the frames' luminance where the history is long enough.
     const std::vector<Vec2>& moments() const { return moments_; }
+    // Per pixel of the last blended frame, where its surface was in the frame before, in that
+    // frame's pixel coordinates (x + 0.5 at a pixel's centre), whether or not its history was
+    // kept (an edge's pixel may keep none, but its surface was there): the motion vectors of
+    // the denoiser's temporal anti-aliasing (temporal_aa.h). kNoSource where off screen or
+    // unknown, and on and beside moving or deforming instances, which it leaves alone.
+    const std::vector<Vec2>& sources() const { return sources_; }
     float min_history_frames() const;                      // 0 before the first frame
     const FloatImage& output() const { return history_; }  // the last blended image
 
@@ -76,6 +85,7 @@ private:
     FloatImage history_;
     std::vector<float> frames_;
     std::vector<Vec2> moments_;
+    std::vector<Vec2> sources_;
     std::optional<FrameView> previous_;
     // Each deformed instance's vertices as last seen: its vertices in the previous frame, since
     // every change of them comes with the frame's view.

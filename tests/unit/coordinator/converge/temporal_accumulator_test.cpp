@@ -240,6 +240,9 @@ TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
     for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
         const bool was_ball = v0.gbuffer.instance[i] == ball_instance;
         const bool is_ball = v1.gbuffer.instance[i] == ball_instance;
+        // The temporal anti-aliasing's motion (sources): none on and beside the ball, where
+        // it would carry the ball's light into the wall it left (temporal_aa.h).
+        const Vec2 source = acc.sources()[i];
         if (was_ball && !is_ball) {
             ++uncovered;
             EXPECT_EQ(acc.history_frames()[i], 1.0f) << "uncovered pixel " << i;
@@ -247,13 +250,16 @@ TEST(TemporalAccumulator, WhatAMovingObjectUncoversStartsOver) {
         if (is_ball) {
             ++ball_pixels;
             EXPECT_LE(acc.history_frames()[i], 1.0f / ConvergeOptions{}.object_floor + 1e-3f);
+            EXPECT_EQ(source.x, kNoSource) << "ball pixel " << i;
         }
         if (!was_ball && !is_ball && v0.gbuffer.instance[i] == v1.gbuffer.instance[i]) {
             if (next_to(v0, ball_instance, i, w, h) || next_to(v1, ball_instance, i, w, h)) {
                 ++beside;  // its samples may have seen the ball: it moves with it
                 EXPECT_LE(acc.history_frames()[i], 1.0f / ConvergeOptions{}.object_floor + 1e-3f);
+                EXPECT_EQ(source.x, kNoSource) << "pixel beside the ball " << i;
             } else {
                 EXPECT_EQ(acc.history_frames()[i], 9.0f) << "still surface " << i;
+                EXPECT_EQ(source, Vec2(float(i % w) + 0.5f, float(i / w) + 0.5f)) << i;
             }
         }
     }

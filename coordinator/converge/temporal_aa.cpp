@@ -1,0 +1,79 @@
+// The neighbourhood's box by separable min/max passes (rows, then columns with the blend), the
+// history read bilinearly at each pixel's source.
+#include "coordinator/converge/temporal_aa.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "coordinator/converge/parallel_rows.h"
+
+namespace pathfarm::coord {
+namespace {
+
+// The last output at pixel coordinates (sx, sy) (x + 0.5 at a pixel's centre), bilinear, the
+// border pixels extended.
+Rgb sample_bilinear(const FloatImage& image, float sx, float sy) {
+    const int w = image.width, h = image.height;
+    const float fx = std::clamp(sx - 0.5f, 0.0f, float(w - 1));
+    const float fy = std::clamp(sy - 0.5f, 0.0f, float(h - 1));
+    const int x0 = int(fx), y0 = int(fy);
+    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+    const float tx = fx - float(x0), ty = fy - float(y0);
+    const Rgb top = image.pixel(x0, y0) + tx * (image.pixel(x1, y0) - image.pixel(x0, y0));
+    const Rgb bottom = image.pixel(x0, y1) + tx * (image.pixel(x1, y1) - image.pixel(x0, y1));
+    return top + ty * (bottom - top);
+}
+
+}  // namespace
+
+void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& sources) {
+    const int w = image.width, h = image.height;
+    const std::size_t floats = image.rgb.size();
+    if (history_.width != w || history_.height != h || sources.size() * 3 != floats) {
+        history_ = image;
+        return;
+    }
+    row_min_.resize(floats);
+    row_max_.resize(floats);
+    // Along a row's 3w floats a channel's neighbours are 3 floats away; the interior loop has no
+    // clamps, so it vectorises.
+    parallel_rows(h, [&](int y) {
+        const float* in = &image.rgb[std::size_t(y) * w * 3];
+        float* lo = &row_min_[std::size_t(y) * w * 3];
+        float* hi = &row_max_[std::size_t(y) * w * 3];
+        const int n = 3 * w;
+        for (int j = 3; j + 3 < n; ++j) {
+            lo[j] = std::min(std::min(in[j - 3], in[j + 3]), in[j]);
+            hi[j] = std::max(std::max(in[j - 3], in[j + 3]), in[j]);
+        }
+        for (int c = 0; c < 3; ++c)
+            for (const int j : {c, n - 3 + c}) {
+                const float left = in[std::max(c, j - 3)], right = in[std::min(n - 3 + c, j + 3)];
+                lo[j] = std::min(std::min(left, right), in[j]);
+                hi[j] = std::max(std::max(left, right), in[j]);
+            }
+    });
+    parallel_rows(h, [&](int y) {
+        const std::size_t up = std::size_t(std::max(0, y - 1)) * w * 3,
+                          mid = std::size_t(y) * w * 3,
+                          down = std::size_t(std::min(h - 1, y + 1)) * w * 3;
+        for (int x = 0; x < w; ++x) {
+            const Vec2 s = sources[std::size_t(y) * w + x];
+            if (s.x < 0.0f) continue;  // nothing to carry: the new output as it is
+            const Rgb history = sample_bilinear(history_, s.x, s.y);
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t j = std::size_t(3 * x + c);
+                const float lo =
+                    std::min(std::min(row_min_[up + j], row_min_[down + j]), row_min_[mid + j]);
+                const float hi =
+                    std::max(std::max(row_max_[up + j], row_max_[down + j]), row_max_[mid + j]);
+                const float kept = std::clamp(history[c], lo, hi);
+                float& out = image.rgb[mid + j];
+                out = kept + alpha_ * (out - kept);
+            }
+        }
+    });
+    history_.rgb = image.rgb;
+}
+
+}  // namespace pathfarm::coord
