@@ -39,7 +39,7 @@ struct FrameView {
 };
 
 struct ConvergeOptions {
-    float object_floor = 0.2f;      // least f on pixels of moving or deforming instances
+    float object_floor = 0.3f;      // least f on pixels of moving or deforming instances
     float camera_floor = 0.1f;      // least f on still surfaces seen by a moving camera
     float clamp_sigmas = 1.5f;      // history clamp: neighbourhood mean +- this many deviations
     float depth_tolerance = 0.03f;  // relative distance mismatch that rejects history
