@@ -83,16 +83,17 @@ constexpr int kToRgbFlags = SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT;
 // x264's faster preset up to 320x240 (trellis quantisation, finer subpixel search, two
 // references) with every partition size (4x4 inter blocks too) and a deblocking filter one step
 // stronger than the default: 2.64x fewer bytes than JPEG q90 at equal PSNR on the demo's 320x180
-// frames (2.52x with faster alone, 2.23x with veryfast), 2.44x at equal SSIM (2.29x), for 1.38x
-// faster's instructions (callgrind): about 4 ms a frame. Above 320x240 veryfast with the stronger
-// deblocking only: faster would cost the coordinator 11.6 ms a frame at 640x360 (veryfast: 6.6
-// ms), and 4x4 partitions buy little there (1 %). The deblocking smooths what remains of the
-// frames' noise, where the default strength left block edges: both PSNR and SSIM gain.
-// The High profile (CABAC, 8x8 transforms), zerolatency, and DCT decimation off (it zeroes
-// sparse blocks: a rendered frame's residual noise). CRF 18 matches JPEG q90 in PSNR and SSIM at
-// 320x180 (bench/codec_bench.py). The psnr tune with finer chroma would reach 3.0x "at equal
-// PSNR", but with a clearly lower SSIM than JPEG's: not what a player sees. An IDR frame every
-// 10 s at 10 frames/s, and whenever a client joins or lost a picture.
+// frames of 2026-12-03 (2.52x with faster alone, 2.23x with veryfast), 2.44x at equal SSIM
+// (2.29x), for 1.38x faster's instructions (callgrind): about 4 ms a frame. On the steadier
+// frames since the denoiser's temporal anti-aliasing: 3.40x and 2.53x (docs/web.md). Above 320x240
+// veryfast with the stronger deblocking only: faster would cost the coordinator 11.6 ms a frame at
+// 640x360 (veryfast: 6.6 ms), and 4x4 partitions buy little there (1 %). The deblocking smooths
+// what remains of the frames' noise, where the default strength left block edges: both PSNR and
+// SSIM gain. The High profile (CABAC, 8x8 transforms), zerolatency, and DCT decimation off (it
+// zeroes sparse blocks: a rendered frame's residual noise). CRF 18 matches JPEG q90 in PSNR and
+// SSIM at 320x180 (bench/codec_bench.py). The psnr tune with finer chroma would reach 3.0x "at
+// equal PSNR", but with a clearly lower SSIM than JPEG's: not what a player sees. An IDR frame
+// every 10 s at 10 frames/s, and whenever a client joins or lost a picture.
 H264Settings h264_stream_settings(int width, int height) {
     H264Settings s{width, height,     10.0,   100,           18,
                    1,     "veryfast", "high", "zerolatency", "no-dct-decimate=1:deblock=1,1"};
