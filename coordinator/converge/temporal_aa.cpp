@@ -53,24 +53,36 @@ void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& source
                 hi[j] = std::max(std::max(left, right), in[j]);
             }
     });
+    carried_.resize(floats);
     parallel_rows(h, [&](int y) {
+        const std::size_t row = std::size_t(y) * w * 3;
         const std::size_t up = std::size_t(std::max(0, y - 1)) * w * 3,
-                          mid = std::size_t(y) * w * 3,
                           down = std::size_t(std::min(h - 1, y + 1)) * w * 3;
+        // The history where each pixel's surface was (a gather: scalar), or the new output
+        // itself where there is none (the blend below then leaves it as it is).
+        float* carried = &carried_[row];
+        const float* now = &image.rgb[row];
         for (int x = 0; x < w; ++x) {
             const Vec2 s = sources[std::size_t(y) * w + x];
-            if (s.x < 0.0f) continue;  // nothing to carry: the new output as it is
-            const Rgb history = sample_bilinear(history_, s.x, s.y);
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t j = std::size_t(3 * x + c);
-                const float lo =
-                    std::min(std::min(row_min_[up + j], row_min_[down + j]), row_min_[mid + j]);
-                const float hi =
-                    std::max(std::max(row_max_[up + j], row_max_[down + j]), row_max_[mid + j]);
-                const float kept = std::clamp(history[c], lo, hi);
-                float& out = image.rgb[mid + j];
-                out = kept + alpha_ * (out - kept);
+            if (s.x < 0.0f) {
+                carried[3 * x] = now[3 * x], carried[3 * x + 1] = now[3 * x + 1];
+                carried[3 * x + 2] = now[3 * x + 2];
+                continue;
             }
+            const Rgb history = sample_bilinear(history_, s.x, s.y);
+            carried[3 * x] = history.x, carried[3 * x + 1] = history.y;
+            carried[3 * x + 2] = history.z;
+        }
+        // Clamp to the 3x3 box and blend, over the row's floats (vectorises).
+        const float *lo_up = &row_min_[up], *lo_mid = &row_min_[row], *lo_down = &row_min_[down];
+        const float *hi_up = &row_max_[up], *hi_mid = &row_max_[row], *hi_down = &row_max_[down];
+        float* out = &image.rgb[row];
+        const float alpha = alpha_;
+        for (int j = 0; j < 3 * w; ++j) {
+            const float lo = std::min(std::min(lo_up[j], lo_down[j]), lo_mid[j]);
+            const float hi = std::max(std::max(hi_up[j], hi_down[j]), hi_mid[j]);
+            const float kept = std::min(std::max(carried[j], lo), hi);
+            out[j] = kept + alpha * (out[j] - kept);
         }
     });
     history_.rgb = image.rgb;

@@ -35,6 +35,7 @@ private:
     float alpha_;
     FloatImage history_;
     std::vector<float> row_min_, row_max_;  // each float's min and max over x-1..x+1
+    std::vector<float> carried_;            // the history where each pixel's surface was
 };
 
 }  // namespace pathfarm::coord
