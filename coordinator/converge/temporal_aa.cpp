@@ -24,23 +24,19 @@ Rgb sample_bilinear(const FloatImage& image, float sx, float sy) {
     return top + ty * (bottom - top);
 }
 
-}  // namespace
-
-void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& sources) {
+// Each float's min and max over its pixel and the pixels left and right of it (edges
+// replicated), into `lo_plane` and `hi_plane`.
+void row_min_max(const FloatImage& image, std::vector<float>& lo_plane,
+                 std::vector<float>& hi_plane) {
     const int w = image.width, h = image.height;
-    const std::size_t floats = image.rgb.size();
-    if (history_.width != w || history_.height != h || sources.size() * 3 != floats) {
-        history_ = image;
-        return;
-    }
-    row_min_.resize(floats);
-    row_max_.resize(floats);
+    lo_plane.resize(image.rgb.size());
+    hi_plane.resize(image.rgb.size());
     // Along a row's 3w floats a channel's neighbours are 3 floats away; the interior loop has no
     // clamps, so it vectorises.
     parallel_rows(h, [&](int y) {
         const float* in = &image.rgb[std::size_t(y) * w * 3];
-        float* lo = &row_min_[std::size_t(y) * w * 3];
-        float* hi = &row_max_[std::size_t(y) * w * 3];
+        float* lo = &lo_plane[std::size_t(y) * w * 3];
+        float* hi = &hi_plane[std::size_t(y) * w * 3];
         const int n = 3 * w;
         for (int j = 3; j + 3 < n; ++j) {
             lo[j] = std::min(std::min(in[j - 3], in[j + 3]), in[j]);
@@ -53,6 +49,18 @@ void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& source
                 hi[j] = std::max(std::max(left, right), in[j]);
             }
     });
+}
+
+}  // namespace
+
+void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& sources) {
+    const int w = image.width, h = image.height;
+    const std::size_t floats = image.rgb.size();
+    if (history_.width != w || history_.height != h || sources.size() * 3 != floats) {
+        history_ = image;
+        return;
+    }
+    row_min_max(image, row_min_, row_max_);
     carried_.resize(floats);
     parallel_rows(h, [&](int y) {
         const std::size_t row = std::size_t(y) * w * 3;

@@ -9,6 +9,7 @@
 
 #include "common/math/transform.h"
 #include "coordinator/converge/dilate.h"
+#include "coordinator/converge/history_search.h"
 #include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
@@ -261,9 +262,9 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
                   (!(was_flags & Motion::kMoving) && (was_flags & Motion::kInView));
         return r;
     }
-    r.valid = prev.gbuffer.instance[j] == inst &&
-              (inst == GBuffer::kNoInstance ||
-               std::abs(prev.gbuffer.distance[j] - expected) <= depth_tolerance * expected);
+    r.valid = same_surface(prev.gbuffer, j, inst, expected, depth_tolerance) ||
+              search_footprint(prev.gbuffer, m.near_prev, inst, expected, depth_tolerance, px, py,
+                               r.hx, r.hy);
     return r;
 }
 
