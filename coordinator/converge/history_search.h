@@ -22,7 +22,8 @@ inline bool same_surface(const GBuffer& prev, std::size_t k, uint32_t inst, floa
 // without this, every pixel along an edge under a moving camera started over each frame.
 // Nearest first; not a pixel `near_prev` marks (beside a moving object last frame: its light
 // may hold the object's edge, a ghost outline), so what a moving object uncovers still starts
-// over. On success (hx, hy) is the pixel found.
+// over (the caller passes none for a moving object's own pixels). On success (hx, hy) is the
+// pixel found.
 inline bool search_footprint(const GBuffer& prev, const uint8_t* near_prev, uint32_t inst,
                              float expected, float depth_tolerance, float px, float py, int& hx,
                              int& hy) {

@@ -263,8 +263,8 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
         return r;
     }
     r.valid = same_surface(prev.gbuffer, j, inst, expected, depth_tolerance) ||
-              search_footprint(prev.gbuffer, m.near_prev, inst, expected, depth_tolerance, px, py,
-                               r.hx, r.hy);
+              search_footprint(prev.gbuffer, (flags & Motion::kMoving) ? nullptr : m.near_prev,
+                               inst, expected, depth_tolerance, px, py, r.hx, r.hy);
     return r;
 }
 
