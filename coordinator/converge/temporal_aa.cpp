@@ -3,26 +3,12 @@
 #include "coordinator/converge/temporal_aa.h"
 
 #include <algorithm>
-#include <cmath>
 
+#include "common/film/resample.h"
 #include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
 namespace {
-
-// The last output at pixel coordinates (sx, sy) (x + 0.5 at a pixel's centre), bilinear, the
-// border pixels extended.
-Rgb sample_bilinear(const FloatImage& image, float sx, float sy) {
-    const int w = image.width, h = image.height;
-    const float fx = std::clamp(sx - 0.5f, 0.0f, float(w - 1));
-    const float fy = std::clamp(sy - 0.5f, 0.0f, float(h - 1));
-    const int x0 = int(fx), y0 = int(fy);
-    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
-    const float tx = fx - float(x0), ty = fy - float(y0);
-    const Rgb top = image.pixel(x0, y0) + tx * (image.pixel(x1, y0) - image.pixel(x0, y0));
-    const Rgb bottom = image.pixel(x0, y1) + tx * (image.pixel(x1, y1) - image.pixel(x0, y1));
-    return top + ty * (bottom - top);
-}
 
 // Each float's min and max over its pixel and the pixels left and right of it (edges
 // replicated), into `lo_plane` and `hi_plane`.
