@@ -81,25 +81,27 @@ constexpr int kToRgbFlags = SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT;
 }  // namespace
 
 // x264's faster preset up to 320x240 (trellis quantisation, finer subpixel search, two
-// references) with every partition size (4x4 inter blocks too) and a deblocking filter one step
-// stronger than the default: 2.64x fewer bytes than JPEG q90 at equal PSNR on the demo's 320x180
-// frames of 2026-12-03 (2.52x with faster alone, 2.23x with veryfast), 2.44x at equal SSIM
-// (2.29x), for 1.38x faster's instructions (callgrind): about 4 ms a frame. On the steadier
-// frames since the denoiser's temporal anti-aliasing: 3.40x and 2.53x (docs/web.md). Above 320x240
-// veryfast with the stronger deblocking only: faster would cost the coordinator 11.6 ms a frame at
-// 640x360 (veryfast: 6.6 ms), and 4x4 partitions buy little there (1 %). The deblocking smooths
-// what remains of the frames' noise, where the default strength left block edges: both PSNR and
-// SSIM gain. The High profile (CABAC, 8x8 transforms), zerolatency, and DCT decimation off (it
-// zeroes sparse blocks: a rendered frame's residual noise). CRF 18 matches JPEG q90 in PSNR and
-// SSIM at 320x180 (bench/codec_bench.py). The psnr tune with finer chroma would reach 3.0x "at
-// equal PSNR", but with a clearly lower SSIM than JPEG's: not what a player sees. An IDR frame
-// every 10 s at 10 frames/s, and whenever a client joins or lost a picture.
+// references) with every partition size (4x4 inter blocks too); above it veryfast with faster's
+// subpixel search (subme 4) and trellis, not faster itself (its second reference and wider
+// motion search bought nothing there: 2.63x against veryfast's 2.68x, earlier frames). Both with a
+// deblocking filter one step stronger than the default (it smooths what remains of the frames'
+// noise, where the default left block edges) and adaptive quantisation at 0.7 of x264's strength:
+// at 1.0 it spends bits on flat, noisy areas that neither PSNR nor SSIM see. On the demo's frames
+// of 2026-12-04 (docs/web.md): 3.65x fewer bytes than JPEG q90 at equal PSNR at 320x180 (2.49x at
+// equal SSIM), about 4 ms a frame; 3.19x at 640x360 (1.68x), veryfast's 2.77x (1.47x) for 1.63x its
+// instructions, about 11 ms a frame. The High profile (CABAC, 8x8 transforms), zerolatency, and DCT
+// decimation off (it zeroes sparse blocks: a rendered frame's residual noise). CRF 18 matches JPEG
+// q90 in PSNR and SSIM at 320x180 (bench/codec_bench.py). The psnr tune with finer chroma gives
+// more "at equal PSNR", but with a clearly lower SSIM than JPEG's: not what a player sees. An IDR
+// frame every 10 s at 10 frames/s, and whenever a client joins or lost a picture.
 H264Settings h264_stream_settings(int width, int height) {
     H264Settings s{width, height,     10.0,   100,           18,
                    1,     "veryfast", "high", "zerolatency", "no-dct-decimate=1:deblock=1,1"};
     if (width * height <= 320 * 240) {
         s.preset = "faster";
-        s.x264_params += ":partitions=all";
+        s.x264_params += ":partitions=all:aq-strength=0.7";
+    } else {
+        s.x264_params += ":subme=4:trellis=1:aq-strength=0.7";
     }
     return s;
 }
