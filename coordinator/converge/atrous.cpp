@@ -1,8 +1,10 @@
 // The à-trous levels, laid out for the vectoriser: padded float planes, one pass per row with
-// every tap of a pixel unrolled in registers (no bounds checks, no sums in memory), compiled
-// three times (x86-64-v4, whose 32 vector registers hold every sum and centre value without
-// spilling: 25 % less time than v3 on the development machine; x86-64-v3, i.e. AVX2 with FMA;
-// baseline) and picked at load time. Rows run in parallel (TBB).
+// every tap of a pixel unrolled in registers (no bounds checks, no sums in memory). The row
+// function is a template on the vector width, instantiated for x86-64-v4 (16 lanes of AVX-512,
+// whose 32 registers hold every sum and centre value without spilling), x86-64-v3 (8 lanes,
+// AVX2 with FMA) and the baseline (8 lanes in SSE quarters), and picked once at load time.
+// The luminance tolerance is computed inside the row pass from the variance rows around it.
+// Rows run in parallel (TBB).
 #include "coordinator/converge/atrous.h"
 
 #include <algorithm>
@@ -17,9 +19,12 @@
 
 #include "common/math/transform.h"
 #include "coordinator/converge/parallel_rows.h"
+#include "coordinator/converge/vector_lanes.h"
 
 namespace pathfarm::coord {
 namespace {
+
+using namespace lanes;
 
 // B-spline kernels: 3x3 (radius 1) and SVGF's 5x5 (radius 2), centre at index radius.
 constexpr float kB2[3] = {1.0f / 4.0f, 1.0f / 2.0f, 1.0f / 4.0f};
@@ -30,43 +35,11 @@ constexpr int kMaxTaps = 24;
 
 float kernel(int radius, int t) { return radius == 1 ? kB2[t + 1] : kB3[t + 2]; }
 
-// Eight lanes in GCC's vector extensions: the x86-64-v3 clone gets AVX2 with FMA, the baseline
-// two SSE halves, and neither depends on the auto-vectoriser's if-conversion.
-// The helpers are always inlined, so the ABI GCC warns about (-Wpsabi) is never used.
-#pragma GCC diagnostic ignored "-Wpsabi"
-using vf = float __attribute__((vector_size(32)));
-using vi = int32_t __attribute__((vector_size(32)));
-constexpr int kLanes = 8;
-
-[[gnu::always_inline]] inline vf load(const float* p) {
-    vf v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-[[gnu::always_inline]] inline void store(float* p, vf v) { std::memcpy(p, &v, sizeof v); }
-[[gnu::always_inline]] inline vf splat(float f) { return vf{} + f; }
-[[gnu::always_inline]] inline vf vmax(vf a, vf b) { return a > b ? a : b; }
-[[gnu::always_inline]] inline vf vabs(vf a) { return (vf)((vi)a & 0x7fffffff); }
-// Computed where needed rather than kept in a plane: three multiply-adds on colour the taps
-// load anyway cost less than a plane more to read.
-[[gnu::always_inline]] inline vf luminance(vf r, vf g, vf b) {
-    return 0.2126f * r + 0.7152f * g + 0.0722f * b;
-}
-
-// e^x for x <= 0 to about 3e-3 relative (plenty for a weight), without floor or table:
-// 2^t = 2^i 2^f with i = trunc(t), f in (-1, 0], a degree-4 Taylor series.
-[[gnu::always_inline]] inline vf exp_nonpositive(vf x) {
-    const vf t = vmax(x, splat(-87.0f)) * 1.44269504f;
-    const vi i = __builtin_convertvector(t, vi);
-    const vf f = t - __builtin_convertvector(i, vf);
-    const vf p = 1.0f + f * (0.693147f + f * (0.240227f + f * (0.0555041f + f * 0.00961813f)));
-    return p * (vf)((i + 127) << 23);
-}
-
-// A row's planes, each pointing at the row's first pixel (padded layout).
+// A row's planes, each pointing at the row's first pixel (padded layout). The variance's rows
+// above and below, for the luminance tolerance.
 struct Row {
-    const float *nx, *ny, *nz, *z, *slope, *offset, *inv_plane, *inv_lum;
-    const float *r, *g, *b, *var;
+    const float *nx, *ny, *nz, *z, *slope, *offset, *inv_plane;
+    const float *r, *g, *b, *var, *var_up, *var_down;
     float *out_r, *out_g, *out_b, *out_var;
 };
 
@@ -79,25 +52,29 @@ struct Taps {
     std::ptrdiff_t offset[kMaxTaps];
     float k[kMaxTaps], inv_distance[kMaxTaps], dx[kMaxTaps], dy[kMaxTaps];
     float k0;
+    float sigma_l;  // the luminance edge, in standard deviations
 };
 
-// The weighted sums of eight centre pixels' taps, kept in registers.
+// The weighted sums of a vector of centre pixels' taps, kept in registers.
+template <typename V>
 struct TapSums {
-    vf w, r, g, b, var;
+    V w, r, g, b, var;
 };
 
 // The centre pixels' values a tap weight needs.
+template <typename V>
 struct Centre {
-    vf nx, ny, nz, slope, offset, inv_plane, lum, inv_lum;
+    V nx, ny, nz, slope, offset, inv_plane, lum, inv_lum;
 };
 
-// Tap j of centres [x, x + 8), unrolled at compile time.
-template <int j>
-[[gnu::always_inline]] inline void add_tap(const Row& a, const Taps& t, int x, const Centre& c,
-                                           TapSums& s) {
+// Tap j of centres [x, x + lanes), unrolled at compile time.
+template <typename V, int j>
+[[gnu::always_inline]] inline void add_tap(const Row& a, const Taps& t, int x, const Centre<V>& c,
+                                           TapSums<V>& s) {
     const std::ptrdiff_t q = x + t.offset[j];
-    const vf r = load(a.r + q), g = load(a.g + q), b = load(a.b + q);
-    vf wn = vmax(vf{}, c.nx * load(a.nx + q) + c.ny * load(a.ny + q) + c.nz * load(a.nz + q));
+    const V r = load<V>(a.r + q), g = load<V>(a.g + q), b = load<V>(a.b + q);
+    V wn =
+        vmax(V{}, c.nx * load<V>(a.nx + q) + c.ny * load<V>(a.ny + q) + c.nz * load<V>(a.nz + q));
     wn *= wn;  // ^128, written out
     wn *= wn;
     wn *= wn;
@@ -107,35 +84,51 @@ template <int j>
     wn *= wn;
     // The tap's point is z_q (f_p + (dx, dy, 0)) in camera space (f: the film point at unit
     // depth), so n_p . point = z_q (n_p . f_p + n_p.x dx + n_p.y dy): one plane to read.
-    const vf plane = vabs(load(a.z + q) * (c.slope + c.nx * t.dx[j] + c.ny * t.dy[j]) - c.offset);
-    const vf edge =
+    const V plane = vabs(load<V>(a.z + q) * (c.slope + c.nx * t.dx[j] + c.ny * t.dy[j]) - c.offset);
+    const V edge =
         plane * c.inv_plane * t.inv_distance[j] + vabs(c.lum - luminance(r, g, b)) * c.inv_lum;
-    const vf w = t.k[j] * wn * exp_nonpositive(-edge);
+    const V w = t.k[j] * wn * exp_nonpositive(-edge);
     s.w += w;
     s.r += w * r;
     s.g += w * g;
     s.b += w * b;
-    s.var += w * w * load(a.var + q);
+    s.var += w * w * load<V>(a.var + q);
 }
 
-// Centres [0, n) rounded up to whole lanes: the row's padding takes the excess (its zero
+// Centres [0, n) rounded up to whole vectors: the row's padding takes the excess (its zero
 // inverse plane tolerance passes its zeros through).
-template <int... j>
+template <typename V, int... j>
 [[gnu::always_inline]] inline void filter_row_body(const Row& a, const Taps& t, int n,
                                                    std::integer_sequence<int, j...>) {
+    constexpr int lanes = sizeof(V) / sizeof(float);
     // Flush denormals to zero: weights far across an edge (e^-80 and smaller, squared for the
     // variance) are denormal, and arithmetic on them cost about a fifth of the wavelet's time.
     const unsigned csr = _mm_getcsr();
     _mm_setcsr(csr | 0x8040);  // FTZ | DAZ
-    for (int x = 0; x < n; x += kLanes) {
-        Centre c{load(a.nx + x),     load(a.ny + x),        load(a.nz + x), load(a.slope + x),
-                 load(a.offset + x), load(a.inv_plane + x), vf{},           load(a.inv_lum + x)};
-        const vf r = load(a.r + x), g = load(a.g + x), b = load(a.b + x), var = load(a.var + x);
+    for (int x = 0; x < n; x += lanes) {
+        Centre<V> c{load<V>(a.nx + x),
+                    load<V>(a.ny + x),
+                    load<V>(a.nz + x),
+                    load<V>(a.slope + x),
+                    load<V>(a.offset + x),
+                    load<V>(a.inv_plane + x),
+                    V{},
+                    V{}};
+        const V r = load<V>(a.r + x), g = load<V>(a.g + x), b = load<V>(a.b + x),
+                var = load<V>(a.var + x);
         c.lum = luminance(r, g, b);
-        TapSums s{splat(t.k0), t.k0 * r, t.k0 * g, t.k0 * b, (t.k0 * t.k0) * var};
-        (add_tap<j>(a, t, x, c, s), ...);
-        const vi filtered = c.inv_plane > 0.0f;
-        const vf inv_w = 1.0f / s.w;
+        // The luminance tolerance from the 3x3 Gaussian of the variance (SVGF's: less noisy
+        // than one pixel's); the padding around the variance replicates the image's edge.
+        const auto column = [&](int at) {
+            return 0.25f * (load<V>(a.var_up + at) + load<V>(a.var_down + at)) +
+                   0.5f * load<V>(a.var + at);
+        };
+        const V v = 0.25f * (column(x - 1) + column(x + 1)) + 0.5f * column(x);
+        c.inv_lum = 1.0f / (t.sigma_l * vsqrt(vmax(v, V{})) + kLuminanceEpsilon);
+        TapSums<V> s{splat<V>(t.k0), t.k0 * r, t.k0 * g, t.k0 * b, (t.k0 * t.k0) * var};
+        (add_tap<V, j>(a, t, x, c, s), ...);
+        const auto filtered = c.inv_plane > 0.0f;
+        const V inv_w = 1.0f / s.w;
         store(a.out_r + x, filtered ? s.r * inv_w : r);
         store(a.out_g + x, filtered ? s.g * inv_w : g);
         store(a.out_b + x, filtered ? s.b * inv_w : b);
@@ -144,19 +137,44 @@ template <int... j>
     _mm_setcsr(csr);
 }
 
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void filter_row_3x3(
-    const Row& a, const Taps& t, int n) {
-    filter_row_body(a, t, n, std::make_integer_sequence<int, 8>());
+// A row of 3x3 or 5x5 taps, in one of three instruction sets chosen once at start.
+using FilterRow = void (*)(const Row&, const Taps&, int);
+
+template <int taps>
+__attribute__((target("arch=x86-64-v4"))) void filter_row_v4(const Row& a, const Taps& t, int n) {
+    filter_row_body<vf16>(a, t, n, std::make_integer_sequence<int, taps>());
+}
+template <int taps>
+__attribute__((target("arch=x86-64-v3"))) void filter_row_v3(const Row& a, const Taps& t, int n) {
+    filter_row_body<vf8>(a, t, n, std::make_integer_sequence<int, taps>());
+}
+template <int taps>
+void filter_row_baseline(const Row& a, const Taps& t, int n) {
+    filter_row_body<vf8>(a, t, n, std::make_integer_sequence<int, taps>());
 }
 
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void filter_row_5x5(
-    const Row& a, const Taps& t, int n) {
-    filter_row_body(a, t, n, std::make_integer_sequence<int, 24>());
+template <int taps>
+FilterRow pick_filter_row() {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("x86-64-v4")) return filter_row_v4<taps>;
+    if (__builtin_cpu_supports("x86-64-v3")) return filter_row_v3<taps>;
+    return filter_row_baseline<taps>;
 }
 
-Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch) {
+void filter_row_3x3(const Row& a, const Taps& t, int n) {
+    static const FilterRow row = pick_filter_row<8>();
+    row(a, t, n);
+}
+
+void filter_row_5x5(const Row& a, const Taps& t, int n) {
+    static const FilterRow row = pick_filter_row<24>();
+    row(a, t, n);
+}
+
+Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch, float sigma_l) {
     Taps t{};
     t.k0 = kernel(radius, 0) * kernel(radius, 0);
+    t.sigma_l = sigma_l;
     int j = 0;
     for (int ty = -radius; ty <= radius; ++ty)
         for (int tx = -radius; tx <= radius; ++tx) {
@@ -174,33 +192,34 @@ Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch) {
 
 }  // namespace
 
+void AtrousFilter::allocate(int width, int height, int pad) {
+    width_ = width;
+    height_ = height;
+    pad_ = pad;
+    stride_ = width_ + 2 * pad_;
+    const std::size_t n = std::size_t(stride_) * std::size_t(height_ + 2 * pad_);
+    float** planes[] = {&nx_,        &ny_,        &nz_,        &z_,         &slope_,
+                        &offset_,    &inv_plane_, &rgb_[0][0], &rgb_[0][1], &rgb_[0][2],
+                        &rgb_[1][0], &rgb_[1][1], &rgb_[1][2], &var_[0],    &var_[1]};
+    constexpr std::size_t kPage = 1024, kStagger = 16;  // in floats: 4 KiB, 64 bytes
+    const std::size_t plane = (n + kPage - 1) / kPage * kPage + kStagger;
+    planes_.assign(plane * std::size(planes) + kPage, 0.0f);  // the padding stays zero
+    // From the first page boundary in the allocation (a zero normal is no one's tap).
+    const std::size_t first =
+        (kPage - (reinterpret_cast<std::uintptr_t>(planes_.data()) / sizeof(float)) % kPage) %
+        kPage;
+    for (std::size_t p = 0; p < std::size(planes); ++p)
+        *planes[p] = planes_.data() + first + p * plane;
+}
+
 void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
                              const std::vector<uint8_t>& filter) {
     // The widest tap offset, and at least a lane's width for the rows' rounded-up ends.
-    const int pad = std::max(kLanes, o_.radius << (o_.levels - 1));
-    if (g.width != width_ || g.height != height_ || pad != pad_) {
-        width_ = g.width;
-        height_ = g.height;
-        pad_ = pad;
-        stride_ = width_ + 2 * pad_;
-        const std::size_t n = std::size_t(stride_) * std::size_t(height_ + 2 * pad_);
-        float** planes[] = {&nx_,        &ny_,        &nz_,        &z_,
-                            &slope_,     &offset_,    &inv_plane_, &rgb_[0][0],
-                            &rgb_[0][1], &rgb_[0][2], &rgb_[1][0], &rgb_[1][1],
-                            &rgb_[1][2], &var_[0],    &var_[1],    &inv_lum_};
-        constexpr std::size_t kPage = 1024, kStagger = 16;  // in floats: 4 KiB, 64 bytes
-        const std::size_t plane = (n + kPage - 1) / kPage * kPage + kStagger;
-        planes_.assign(plane * std::size(planes) + kPage, 0.0f);  // the padding stays zero
-        // From the first page boundary in the allocation (a zero normal is no one's tap).
-        const std::size_t first =
-            (kPage - (reinterpret_cast<std::uintptr_t>(planes_.data()) / sizeof(float)) % kPage) %
-            kPage;
-        for (std::size_t p = 0; p < std::size(planes); ++p)
-            *planes[p] = planes_.data() + first + p * plane;
-    }
+    const int pad = std::max(kMaxLanes, o_.radius << (o_.levels - 1));
+    if (g.width != width_ || g.height != height_ || pad != pad_) allocate(g.width, g.height, pad);
     // Camera space: normals rotated into it, points as depth along the view axis times the
     // pixel centre's film point (x, y, -1) at unit depth (generate_camera_ray's inverse).
-    const Mat3 to_camera(glm::inverse(camera.camera_to_world));
+    const Mat3 m(glm::inverse(camera.camera_to_world));  // world to camera, for normals
     const float tan_half = std::tan(0.5f * camera.yfov_radians);
     pitch_ = 2.0f * tan_half / float(height_);
     const float film_x = 2.0f * tan_half * float(width_) / float(height_) / float(width_);
@@ -210,27 +229,66 @@ void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
         film_x_[std::size_t(x)] = (float(x) + 0.5f) * film_x - 0.5f * float(width_) * film_x;
     parallel_rows(height_, [&](int y) {
         const float fy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half;
-        const std::size_t row = std::size_t(y) * width_;
-        const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
-        for (int x = 0; x < width_; ++x) {
-            const std::size_t i = row + x, k = k0 + x;
-            if (!filter[i]) {
-                nx_[k] = ny_[k] = nz_[k] = z_[k] = slope_[k] = offset_[k] = inv_plane_[k] = 0.0f;
-                continue;
-            }
-            const Vec3 n = glm::normalize(to_camera * g.normal[i]);
-            const float fx = film_x_[std::size_t(x)];
-            const float z = g.distance[i] / std::sqrt(fx * fx + fy * fy + 1.0f);
-            const float slope = n.x * fx + n.y * fy - n.z;  // n . (fx, fy, -1)
-            nx_[k] = n.x;
-            ny_[k] = n.y;
-            nz_[k] = n.z;
-            z_[k] = z;
-            slope_[k] = slope;
-            offset_[k] = z * slope;
-            inv_plane_[k] = inv_sigma_pitch / g.distance[i];
-        }
+        guide_row(g, m, filter, y, fy, inv_sigma_pitch);
     });
+}
+
+void AtrousFilter::guide_row(const GBuffer& g, const Mat3& m, const std::vector<uint8_t>& filter,
+                             int y, float fy, float inv_sigma_pitch) {
+    const std::size_t row = std::size_t(y) * width_;
+    const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
+    // Eight pixels at a time, the pixels not filtered (zero normal, infinite distance)
+    // computed too and then zeroed; the row's last few one by one. The same operations in
+    // the same order as glm::normalize (v * (1 / sqrt(v . v))), so the bits are the same.
+    int x = 0;
+    for (; x + 8 <= width_; x += 8) {
+        const std::size_t i = row + x, k = k0 + x;
+        float n[3][8], fx_lanes[8];
+        int32_t keep[8];
+        for (int l = 0; l < 8; ++l) {
+            n[0][l] = g.normal[i + l].x;
+            n[1][l] = g.normal[i + l].y;
+            n[2][l] = g.normal[i + l].z;
+            fx_lanes[l] = film_x_[std::size_t(x + l)];
+            keep[l] = filter[i + l] ? -1 : 0;
+        }
+        const vf8 vx = load<vf8>(n[0]), vy = load<vf8>(n[1]), vz = load<vf8>(n[2]);
+        const vf8 cx = m[0][0] * vx + m[1][0] * vy + m[2][0] * vz;
+        const vf8 cy = m[0][1] * vx + m[1][1] * vy + m[2][1] * vz;
+        const vf8 cz = m[0][2] * vx + m[1][2] * vy + m[2][2] * vz;
+        const vf8 inv_length = 1.0f / vsqrt(cx * cx + cy * cy + cz * cz);
+        const vf8 nx = cx * inv_length, ny = cy * inv_length, nz = cz * inv_length;
+        const vf8 fx = load<vf8>(fx_lanes), distance = load<vf8>(&g.distance[i]);
+        const vf8 z = distance / vsqrt(fx * fx + fy * fy + 1.0f);
+        const vf8 slope = nx * fx + ny * fy - nz;  // n . (fx, fy, -1)
+        vi8 on;
+        std::memcpy(&on, keep, sizeof on);
+        store(&nx_[k], on ? nx : vf8{});
+        store(&ny_[k], on ? ny : vf8{});
+        store(&nz_[k], on ? nz : vf8{});
+        store(&z_[k], on ? z : vf8{});
+        store(&slope_[k], on ? slope : vf8{});
+        store(&offset_[k], on ? z * slope : vf8{});
+        store(&inv_plane_[k], on ? inv_sigma_pitch / distance : vf8{});
+    }
+    for (; x < width_; ++x) {
+        const std::size_t i = row + x, k = k0 + x;
+        if (!filter[i]) {
+            nx_[k] = ny_[k] = nz_[k] = z_[k] = slope_[k] = offset_[k] = inv_plane_[k] = 0.0f;
+            continue;
+        }
+        const Vec3 n = glm::normalize(m * g.normal[i]);
+        const float fx = film_x_[std::size_t(x)];
+        const float z = g.distance[i] / std::sqrt(fx * fx + fy * fy + 1.0f);
+        const float slope = n.x * fx + n.y * fy - n.z;
+        nx_[k] = n.x;
+        ny_[k] = n.y;
+        nz_[k] = n.z;
+        z_[k] = z;
+        slope_[k] = slope;
+        offset_[k] = z * slope;
+        inv_plane_[k] = inv_sigma_pitch / g.distance[i];
+    }
 }
 
 void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance, bool spatial) {
@@ -244,6 +302,7 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance,
             var_[0][k] = variance[i];
         }
     });
+    replicate_edges(var_[0]);
     int from = 0;
     for (int l = 0; l < o_.levels; ++l, from = 1 - from)
         level(1 << l, from, sigma_l);
@@ -257,45 +316,39 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance,
     });
 }
 
-// One level from planes `from` to 1 - from, one task per row: the centre row's luminance
-// tolerance (from the 3x3 Gaussian of the variance, edges replicated: SVGF's, less noisy than
-// one pixel's), then the taps.
+// The pixels around the image (one on each side) take their nearest edge pixel's value.
+void AtrousFilter::replicate_edges(float* plane) const {
+    const auto row_start = [&](int y) { return plane + std::size_t(y + pad_) * stride_ + pad_; };
+    for (int y = 0; y < height_; ++y) {
+        float* row = row_start(y);
+        row[-1] = row[0];
+        row[width_] = row[width_ - 1];
+    }
+    std::copy(row_start(0) - 1, row_start(0) + width_ + 1, row_start(-1) - 1);
+    std::copy(row_start(height_ - 1) - 1, row_start(height_ - 1) + width_ + 1,
+              row_start(height_) - 1);
+}
+
+// One level from planes `from` to 1 - from, one task per row; then the new variance's edges
+// replicated for the next level's luminance tolerance.
 void AtrousFilter::level(int step, int from, float sigma_l) {
     float* const(&in)[3] = rgb_[from];
     const float* var = var_[from];
-    const int w = width_, h = height_;
-    const auto row_start = [&](int y) { return std::size_t(y + pad_) * stride_ + pad_; };
-    const Taps taps = taps_of(o_.radius, step, stride_, pitch_);
+    const Taps taps = taps_of(o_.radius, step, stride_, pitch_, sigma_l);
     const int to = 1 - from;
-    parallel_rows(h, [&](int y) {
-        const std::size_t k = row_start(y);
-        const float* rows[3] = {&var[row_start(std::max(0, y - 1))], &var[k],
-                                &var[row_start(std::min(h - 1, y + 1))]};
-        float* inv_lum = &inv_lum_[k];
-        const float *up = rows[0], *mid = rows[1], *down = rows[2];
-        const float sigma = sigma_l;
-        // Vertical then horizontal weights; the row's two ends replicate their edge pixel.
-        const auto column = [&](int x) { return 0.25f * (up[x] + down[x]) + 0.5f * mid[x]; };
-        const auto tolerance = [&](float v) {
-            return 1.0f / (sigma * std::sqrt(std::max(0.0f, v)) + kLuminanceEpsilon);
-        };
-        for (int x = 1; x + 1 < w; ++x) {
-            const float v = 0.25f * (0.25f * (up[x - 1] + down[x - 1]) + 0.5f * mid[x - 1]) +
-                            0.5f * (0.25f * (up[x] + down[x]) + 0.5f * mid[x]) +
-                            0.25f * (0.25f * (up[x + 1] + down[x + 1]) + 0.5f * mid[x + 1]);
-            inv_lum[x] = tolerance(v);
-        }
-        inv_lum[0] = tolerance(0.75f * column(0) + 0.25f * column(std::min(1, w - 1)));
-        inv_lum[w - 1] = tolerance(0.75f * column(w - 1) + 0.25f * column(std::max(0, w - 2)));
-        const Row row{&nx_[k],         &ny_[k],         &nz_[k],         &z_[k],
-                      &slope_[k],      &offset_[k],     &inv_plane_[k],  &inv_lum_[k],
-                      &in[0][k],       &in[1][k],       &in[2][k],       &var[k],
-                      &rgb_[to][0][k], &rgb_[to][1][k], &rgb_[to][2][k], &var_[to][k]};
+    parallel_rows(height_, [&](int y) {
+        const std::size_t k = std::size_t(y + pad_) * stride_ + pad_;
+        const Row row{&nx_[k],           &ny_[k],         &nz_[k],         &z_[k],
+                      &slope_[k],        &offset_[k],     &inv_plane_[k],  &in[0][k],
+                      &in[1][k],         &in[2][k],       &var[k],         &var[k - stride_],
+                      &var[k + stride_], &rgb_[to][0][k], &rgb_[to][1][k], &rgb_[to][2][k],
+                      &var_[to][k]};
         if (o_.radius == 1)
-            filter_row_3x3(row, taps, w);
+            filter_row_3x3(row, taps, width_);
         else
-            filter_row_5x5(row, taps, w);
+            filter_row_5x5(row, taps, width_);
     });
+    replicate_edges(var_[to]);
 }
 
 }  // namespace pathfarm::coord

@@ -41,7 +41,12 @@ public:
     const AtrousOptions& options() const { return o_; }
 
 private:
+    void allocate(int width, int height, int pad);
+    // One row of the guide; fy: the row's film y at unit depth.
+    void guide_row(const GBuffer& g, const Mat3& m, const std::vector<uint8_t>& filter, int y,
+                   float fy, float inv_sigma_pitch);
     void level(int step, int from, float sigma_l);
+    void replicate_edges(float* plane) const;
 
     AtrousOptions o_;
     int width_ = 0, height_ = 0, pad_ = 0, stride_ = 0;
@@ -51,9 +56,9 @@ private:
     float *nx_ = nullptr, *ny_ = nullptr, *nz_ = nullptr, *z_ = nullptr, *slope_ = nullptr,
           *offset_ = nullptr, *inv_plane_ = nullptr;
     std::vector<float> film_x_;  // per column: the pixel centre's film x at unit depth
-    // Colour and variance, in and out of a level (padded), and the luminance tolerance's inverse.
-    float *rgb_[2][3] = {}, *var_[2] = {}, *inv_lum_ = nullptr;
-    // The 16 planes above, in one allocation, each starting 64 bytes further into a 4 KiB page
+    // Colour and variance, in and out of a level (padded).
+    float *rgb_[2][3] = {}, *var_[2] = {};
+    // The 15 planes above, in one allocation, each starting 64 bytes further into a 4 KiB page
     // than the last: a tap reads the same pixel of every plane, and planes at one page offset
     // (separate allocations, each page-aligned) compete for the same cache sets.
     std::vector<float> planes_;
