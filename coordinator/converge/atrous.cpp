@@ -8,6 +8,7 @@
 #include "coordinator/converge/atrous.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -153,22 +154,42 @@ void filter_row_baseline(const Row& a, const Taps& t, int n) {
     filter_row_body<vf8>(a, t, n, std::make_integer_sequence<int, taps>());
 }
 
-template <int taps>
-FilterRow pick_filter_row() {
+// The best set the CPU runs, or the one a test chose (use_atrous_isa).
+AtrousIsa best_isa() {
+    // By feature: clang 14 knows no "x86-64-v4" here. Every CPU with AVX2, FMA and BMI2 has
+    // the rest of x86-64-v3 (F16C, LZCNT, MOVBE); x86-64-v4 adds these five AVX-512 sets.
     __builtin_cpu_init();
-    if (__builtin_cpu_supports("x86-64-v4")) return filter_row_v4<taps>;
-    if (__builtin_cpu_supports("x86-64-v3")) return filter_row_v3<taps>;
+    const bool v3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                    __builtin_cpu_supports("bmi2");
+    if (v3 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512dq") &&
+        __builtin_cpu_supports("avx512vl"))
+        return AtrousIsa::kX86_64_V4;
+    return v3 ? AtrousIsa::kX86_64_V3 : AtrousIsa::kBaseline;
+}
+
+const AtrousIsa kBestIsa = best_isa();
+std::atomic<AtrousIsa> g_isa{kBestIsa};
+
+template <int taps>
+FilterRow filter_row_for(AtrousIsa isa) {
+    switch (isa) {
+        case AtrousIsa::kX86_64_V4:
+            return filter_row_v4<taps>;
+        case AtrousIsa::kX86_64_V3:
+            return filter_row_v3<taps>;
+        case AtrousIsa::kBaseline:
+            break;
+    }
     return filter_row_baseline<taps>;
 }
 
 void filter_row_3x3(const Row& a, const Taps& t, int n) {
-    static const FilterRow row = pick_filter_row<8>();
-    row(a, t, n);
+    filter_row_for<8>(g_isa.load(std::memory_order_relaxed))(a, t, n);
 }
 
 void filter_row_5x5(const Row& a, const Taps& t, int n) {
-    static const FilterRow row = pick_filter_row<24>();
-    row(a, t, n);
+    filter_row_for<24>(g_isa.load(std::memory_order_relaxed))(a, t, n);
 }
 
 Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch, float sigma_l) {
@@ -191,6 +212,14 @@ Taps taps_of(int radius, int step, std::ptrdiff_t stride, float pitch, float sig
 }
 
 }  // namespace
+
+bool use_atrous_isa(AtrousIsa isa) {
+    if (int(isa) > int(kBestIsa)) return false;
+    g_isa.store(isa, std::memory_order_relaxed);
+    return true;
+}
+
+AtrousIsa atrous_isa() { return g_isa.load(std::memory_order_relaxed); }
 
 void AtrousFilter::allocate(int width, int height, int pad) {
     width_ = width;

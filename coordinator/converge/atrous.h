@@ -25,6 +25,14 @@ struct AtrousOptions {
     float sigma_plane = 1.0f;  // depth edge: distance off the tangent plane, in footprints
 };
 
+// The instruction sets the wavelet's row pass is built for, in order; the best one the CPU
+// runs is used.
+enum class AtrousIsa { kBaseline, kX86_64_V3, kX86_64_V4 };
+// For tests and benchmarks: run the rows with `isa` from now on (process-wide). False, and
+// nothing changed, if the CPU lacks it.
+bool use_atrous_isa(AtrousIsa isa);
+AtrousIsa atrous_isa();
+
 // The filter with its planes, kept from frame to frame (no allocation once sized). Planes are
 // padded by the widest tap offset on every side with pixels that are no one's tap, so the
 // inner loops need no bounds checks and vectorise.
