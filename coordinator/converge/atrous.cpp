@@ -96,6 +96,14 @@ template <typename V, int j>
     s.var += w * w * load<V>(a.var + q);
 }
 
+// The variance's vertical 1-2-1 at column `at`. A function always inlined, not a lambda: a
+// lambda is a function of its own, compiled for the baseline, and clang (at -O1) called it
+// from the AVX-512 row with a vector return in the other ABI (garbage; AtrousIsa test).
+template <typename V>
+[[gnu::always_inline]] inline V variance_column(const Row& a, int at) {
+    return 0.25f * (load<V>(a.var_up + at) + load<V>(a.var_down + at)) + 0.5f * load<V>(a.var + at);
+}
+
 // Centres [0, n) rounded up to whole vectors: the row's padding takes the excess (its zero
 // inverse plane tolerance passes its zeros through).
 template <typename V, int... j>
@@ -120,11 +128,8 @@ template <typename V, int... j>
         c.lum = luminance(r, g, b);
         // The luminance tolerance from the 3x3 Gaussian of the variance (SVGF's: less noisy
         // than one pixel's); the padding around the variance replicates the image's edge.
-        const auto column = [&](int at) {
-            return 0.25f * (load<V>(a.var_up + at) + load<V>(a.var_down + at)) +
-                   0.5f * load<V>(a.var + at);
-        };
-        const V v = 0.25f * (column(x - 1) + column(x + 1)) + 0.5f * column(x);
+        const V v = 0.25f * (variance_column<V>(a, x - 1) + variance_column<V>(a, x + 1)) +
+                    0.5f * variance_column<V>(a, x);
         c.inv_lum = 1.0f / (t.sigma_l * vsqrt(vmax(v, V{})) + kLuminanceEpsilon);
         TapSums<V> s{splat<V>(t.k0), t.k0 * r, t.k0 * g, t.k0 * b, (t.k0 * t.k0) * var};
         (add_tap<V, j>(a, t, x, c, s), ...);
