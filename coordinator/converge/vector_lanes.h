@@ -2,7 +2,10 @@
 // function built for x86-64-v4 gets AVX-512 (16 lanes), one for x86-64-v3 AVX2 with FMA (8),
 // the baseline two SSE halves of 8; none depends on the auto-vectoriser's if-conversion. The
 // helpers are always inlined, so the ABI GCC warns about (-Wpsabi) is never used; include this
-// only from sources built with -Wno-psabi (coordinator/CMakeLists.txt).
+// only from sources built with -Wno-psabi (coordinator/CMakeLists.txt). That flag also hides
+// the real case: a vector passed to or from a function that is not inlined (a lambda inside a
+// target("arch=...") function is compiled for the baseline) crosses two ABIs and arrives as
+// garbage; keep such helpers always_inline templates (AtrousIsa test).
 #pragma once
 
 #include <cstdint>
