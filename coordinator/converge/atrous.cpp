@@ -271,19 +271,19 @@ void AtrousFilter::guide_row(const GBuffer& g, const Mat3& m, const std::vector<
                              int y, float fy, float inv_sigma_pitch) {
     const std::size_t row = std::size_t(y) * width_;
     const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
-    // Eight pixels at a time, the pixels not filtered (zero normal, infinite distance)
-    // computed too and then zeroed; the row's last few one by one. The same operations in
-    // the same order as glm::normalize (v * (1 / sqrt(v . v))), so the bits are the same.
-    int x = 0;
-    for (; x + 8 <= width_; x += 8) {
+    // Eight pixels at a time, the pixels not filtered (zero normal, infinite distance) and the
+    // lanes past the row's end (into the padding, which stays zero) computed too and then
+    // zeroed. The same operations in the same order as glm::normalize (v * (1 / sqrt(v . v))).
+    for (int x = 0; x < width_; x += 8) {
         const std::size_t i = row + x, k = k0 + x;
-        float n[3][8], fx_lanes[8];
-        int32_t keep[8];
-        for (int l = 0; l < 8; ++l) {
+        float n[3][8] = {}, fx_lanes[8] = {}, distance_lanes[8] = {};
+        int32_t keep[8] = {};
+        for (int l = 0; l < std::min(8, width_ - x); ++l) {
             n[0][l] = g.normal[i + l].x;
             n[1][l] = g.normal[i + l].y;
             n[2][l] = g.normal[i + l].z;
             fx_lanes[l] = film_x_[std::size_t(x + l)];
+            distance_lanes[l] = g.distance[i + l];
             keep[l] = filter[i + l] ? -1 : 0;
         }
         const vf8 vx = load<vf8>(n[0]), vy = load<vf8>(n[1]), vz = load<vf8>(n[2]);
@@ -292,7 +292,7 @@ void AtrousFilter::guide_row(const GBuffer& g, const Mat3& m, const std::vector<
         const vf8 cz = m[0][2] * vx + m[1][2] * vy + m[2][2] * vz;
         const vf8 inv_length = 1.0f / vsqrt(cx * cx + cy * cy + cz * cz);
         const vf8 nx = cx * inv_length, ny = cy * inv_length, nz = cz * inv_length;
-        const vf8 fx = load<vf8>(fx_lanes), distance = load<vf8>(&g.distance[i]);
+        const vf8 fx = load<vf8>(fx_lanes), distance = load<vf8>(distance_lanes);
         const vf8 z = distance / vsqrt(fx * fx + fy * fy + 1.0f);
         const vf8 slope = nx * fx + ny * fy - nz;  // n . (fx, fy, -1)
         vi8 on;
@@ -304,24 +304,6 @@ void AtrousFilter::guide_row(const GBuffer& g, const Mat3& m, const std::vector<
         store(&slope_[k], on ? slope : vf8{});
         store(&offset_[k], on ? z * slope : vf8{});
         store(&inv_plane_[k], on ? inv_sigma_pitch / distance : vf8{});
-    }
-    for (; x < width_; ++x) {
-        const std::size_t i = row + x, k = k0 + x;
-        if (!filter[i]) {
-            nx_[k] = ny_[k] = nz_[k] = z_[k] = slope_[k] = offset_[k] = inv_plane_[k] = 0.0f;
-            continue;
-        }
-        const Vec3 n = glm::normalize(m * g.normal[i]);
-        const float fx = film_x_[std::size_t(x)];
-        const float z = g.distance[i] / std::sqrt(fx * fx + fy * fy + 1.0f);
-        const float slope = n.x * fx + n.y * fy - n.z;
-        nx_[k] = n.x;
-        ny_[k] = n.y;
-        nz_[k] = n.z;
-        z_[k] = z;
-        slope_[k] = slope;
-        offset_[k] = z * slope;
-        inv_plane_[k] = inv_sigma_pitch / g.distance[i];
     }
 }
 
