@@ -84,7 +84,10 @@ PackedLightBounds pack(const LightBounds& b) {
     const float inv_power = packed.power > 0.0f ? 1.0f / b.power : 0.0f;
     for (int k = 0; k < 3; ++k)
         packed.mean_normal[k] = b.power_normal[k] * inv_power;
-    packed.two_sided_share = b.two_sided_power * inv_power;
+    const float two_sided_share = b.two_sided_power * inv_power;
+    const float aligned = glm::length(b.power_normal) * inv_power;
+    packed.diffuse_share =
+        0.5f * two_sided_share + 0.25f * std::max(0.0f, 1.0f - two_sided_share - aligned);
     return packed;
 }
 

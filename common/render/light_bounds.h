@@ -10,8 +10,11 @@
 // where no emitter in the group can light p, which keeps next-event estimation unbiased.
 //
 // estimate() guesses the light itself instead: the group's power-weighted mean cosine towards p
-// (exact for one-sided emitters that all face p, half the power for two-sided ones unless the
-// group is one emitter), the receiver's cosine towards the group's centre, the squared distance
+// (exact for one-sided emitters that all face p), plus what that mean cannot say, on average
+// over directions: half the two-sided power (unless the group is one emitter: then |cos|) and
+// a quarter of the one-sided power whose normals cancel in the mean (a ring of emitters facing
+// out has a mean normal near zero, yet lights everything around it), the receiver's cosine
+// towards the group's centre, the squared distance
 // to that centre (held above a quarter of the bounding radius squared). Where receivers sit
 // among large groups (a room lined with lights), the bound says little more than "power over
 // radius squared": the ceiling above a floor point and the walls beside it look alike to it,
@@ -51,9 +54,13 @@ struct PackedLightBounds {
     float center[3], radius2;
     float axis[3], cos_theta_o;
     float sin_theta_o, power;
-    uint32_t flags;         // kPackedTwoSided; the other bits are the container's (LightTree)
-    float mean_normal[3];   // power_normal / power
-    float two_sided_share;  // two_sided_power / power
+    uint32_t flags;        // kPackedTwoSided; the other bits are the container's (LightTree)
+    float mean_normal[3];  // power_normal / power
+    // The share of the power, on average over directions, that mean_normal does not account
+    // for: half of the two-sided emitters' (they light both sides) and a quarter of the
+    // one-sided power whose normals cancel in the mean, 1 - |mean_normal| of it (the mean of
+    // max(0, cos) over the sphere): estimate() adds it in every direction.
+    float diffuse_share;
 };
 inline constexpr uint32_t kPackedTwoSided = 1;
 PackedLightBounds pack(const LightBounds& b);
@@ -103,7 +110,7 @@ inline float importance(const PackedLightBounds& b, const Vec3& p, const Vec3& n
 
 // The estimate (see above), inline like importance(); its callers zero it where importance()
 // is zero (they have that at hand). `single`: the bounds are one emitter's (a two-sided one
-// then emits |cos| exactly, not half on average).
+// then emits |cos| exactly, twice its diffuse share of one half times |cos|).
 inline float estimate(const PackedLightBounds& b, const Vec3& p, const Vec3& n, bool single) {
     const Vec3 to_p(p.x - b.center[0], p.y - b.center[1], p.z - b.center[2]);
     const float dist2 = glm::dot(to_p, to_p);
@@ -111,10 +118,11 @@ inline float estimate(const PackedLightBounds& b, const Vec3& p, const Vec3& n, 
     const float one_sided =
         (b.mean_normal[0] * to_p.x + b.mean_normal[1] * to_p.y + b.mean_normal[2] * to_p.z) *
         inv_dist;
-    const float two_sided =
-        single ? std::abs(b.axis[0] * to_p.x + b.axis[1] * to_p.y + b.axis[2] * to_p.z) * inv_dist
-               : 0.5f;
-    float result = b.power * (std::max(0.0f, one_sided) + b.two_sided_share * two_sided) /
+    const float spread =
+        single ? 2.0f * std::abs(b.axis[0] * to_p.x + b.axis[1] * to_p.y + b.axis[2] * to_p.z) *
+                     inv_dist
+               : 1.0f;
+    float result = b.power * (std::max(0.0f, one_sided) + b.diffuse_share * spread) /
                    std::max({dist2, 0.25f * b.radius2, 1e-20f});
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= std::abs(glm::dot(to_p, n)) * inv_dist;
     return std::isfinite(result) ? result : 0.0f;

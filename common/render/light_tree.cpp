@@ -41,7 +41,7 @@ PackedLightBounds slot_bounds(const LightTree::WideNode& w, int k) {
     b.flags = w.flags[k];
     for (int a = 0; a < 3; ++a)
         b.mean_normal[a] = w.mean_normal[a][k];
-    b.two_sided_share = w.two_sided_share[k];
+    b.diffuse_share = w.diffuse_share[k];
     return b;
 }
 
@@ -119,17 +119,18 @@ __m128 bound_lanes(const LightTree::WideNode& w, const Lanes& l, __m128 axis_cos
                        _mm_add_ps(_mm_mul_ps(l.cos_i, cos_b), _mm_mul_ps(sin_i, sin_b)), one));
 }
 
-// estimate() lane by lane: the one-sided emitters' mean cosine, two-sided ones' |cos| when the
-// slot is one emitter, else half.
+// estimate() lane by lane: the one-sided emitters' mean cosine plus the diffuse share; a slot
+// that is one two-sided emitter emits |cos| (its diffuse share is one half).
 __m128 estimate_lanes(const LightTree::WideNode& w, const Lanes& l, __m128 axis_cos) {
     const __m128 single =
         flags_equal(w.flags, LightTree::kLeaf | LightTree::kPair, LightTree::kLeaf);
-    const __m128 two_sided = select(single, abs_value(axis_cos), _mm_set1_ps(0.5f));
+    const __m128 spread =
+        select(single, _mm_mul_ps(_mm_set1_ps(2.0f), abs_value(axis_cos)), _mm_set1_ps(1.0f));
     const __m128 one_sided = _mm_mul_ps(dot(load(w.mean_normal[0]), load(w.mean_normal[1]),
                                             load(w.mean_normal[2]), l.tx, l.ty, l.tz),
                                         l.inv_dist);
     const __m128 emitted = _mm_add_ps(_mm_max_ps(_mm_setzero_ps(), one_sided),
-                                      _mm_mul_ps(load(w.two_sided_share), two_sided));
+                                      _mm_mul_ps(load(w.diffuse_share), spread));
     const __m128 result = _mm_div_ps(_mm_mul_ps(load(w.power), emitted), l.floor2);
     return l.receiver ? _mm_mul_ps(result, l.cos_i) : result;
 }
@@ -198,7 +199,7 @@ uint32_t LightTree::collapse(uint32_t b, int depth, uint64_t trail) {
         wide_[at].power[k] = s.power;
         for (int a = 0; a < 3; ++a)
             wide_[at].mean_normal[a][k] = s.mean_normal[a];
-        wide_[at].two_sided_share[k] = s.two_sided_share;
+        wide_[at].diffuse_share[k] = s.diffuse_share;
         wide_[at].flags[k] = s.flags;
         wide_source_[at][std::size_t(k)] = g;
         const uint64_t path = trail | (uint64_t(k) << (2 * depth));

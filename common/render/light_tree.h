@@ -44,7 +44,7 @@ public:
         float radius2[4];
         float axis[3][4];
         float cos_theta_o[4], sin_theta_o[4], power[4];
-        float mean_normal[3][4], two_sided_share[4];  // what estimate() reads
+        float mean_normal[3][4], diffuse_share[4];  // what estimate() reads
         uint32_t flags[4];                            // kPackedTwoSided, kLeaf, kPair
         uint32_t child[4];                            // a wide node, or a leaf's (first) emitter
     };

@@ -50,8 +50,8 @@ static_assert(sizeof(PfLightNode) == sizeof(LightTree::WideNode) &&
 static_assert(offsetof(PfLightNode, power) == offsetof(LightTree::WideNode, power) &&
                   offsetof(PfLightNode, mean_normal) ==
                       offsetof(LightTree::WideNode, mean_normal) &&
-                  offsetof(PfLightNode, two_sided_share) ==
-                      offsetof(LightTree::WideNode, two_sided_share) &&
+                  offsetof(PfLightNode, diffuse_share) ==
+                      offsetof(LightTree::WideNode, diffuse_share) &&
                   offsetof(PfLightNode, flags) == offsetof(LightTree::WideNode, flags) &&
                   offsetof(PfLightNode, child) == offsetof(LightTree::WideNode, child),
               "PfLightNode's fields where LightTree::WideNode has them");

@@ -141,7 +141,7 @@ typedef struct {
     float sin_theta_o[4];
     float power[4];
     float mean_normal[3][4];  // what the estimate reads (light_bounds.h)
-    float two_sided_share[4];
+    float diffuse_share[4];
     pf_uint flags[4];  // PF_LIGHT_TWO_SIDED, PF_LIGHT_LEAF, PF_LIGHT_PAIR
     pf_uint child[4];
 } PfLightNode;

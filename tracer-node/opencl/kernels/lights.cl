@@ -110,10 +110,11 @@ float pf_light_estimate(__global const PfLightNode* b, int k, float3 p, float3 n
         dot((float3)(b->mean_normal[0][k], b->mean_normal[1][k], b->mean_normal[2][k]), to_p) *
         inv_dist;
     const bool single = (b->flags[k] & (PF_LIGHT_LEAF | PF_LIGHT_PAIR)) == PF_LIGHT_LEAF;
-    const float two_sided =
-        single ? fabs(dot((float3)(b->axis[0][k], b->axis[1][k], b->axis[2][k]), to_p)) * inv_dist
-               : 0.5f;
-    float result = b->power[k] * (fmax(0.0f, one_sided) + b->two_sided_share[k] * two_sided) /
+    const float spread =
+        single ? 2.0f * fabs(dot((float3)(b->axis[0][k], b->axis[1][k], b->axis[2][k]), to_p)) *
+                     inv_dist
+               : 1.0f;
+    float result = b->power[k] * (fmax(0.0f, one_sided) + b->diffuse_share[k] * spread) /
                    fmax(fmax(dist2, 0.25f * b->radius2[k]), 1e-20f);
     if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) result *= fabs(dot(to_p, n)) * inv_dist;
     return isfinite(result) ? result : 0.0f;

@@ -296,7 +296,7 @@ TEST(LightTree, WideImportanceAndEstimateAreTheScalarOnesOfEachSlot) {
             const Vec3 m = u(rng) * random_direction(rng);
             for (int d = 0; d < 3; ++d)
                 w.mean_normal[d][k] = m[d];
-            w.two_sided_share[k] = u(rng) < 0.5f ? 0.0f : u(rng);
+            w.diffuse_share[k] = u(rng) < 0.5f ? 0.0f : u(rng);
         }
         const Vec3 p = scale * Vec3(2.0f * u(rng), 2.0f * u(rng), 2.0f * u(rng)) - Vec3(scale / 2);
         const Vec3 n = u(rng) < 0.2f ? Vec3(0.0f) : random_direction(rng);
