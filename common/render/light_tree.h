@@ -45,8 +45,8 @@ public:
         float axis[3][4];
         float cos_theta_o[4], sin_theta_o[4], power[4];
         float mean_normal[3][4], diffuse_share[4];  // what estimate() reads
-        uint32_t flags[4];                            // kPackedTwoSided, kLeaf, kPair
-        uint32_t child[4];                            // a wide node, or a leaf's (first) emitter
+        uint32_t flags[4];                          // kPackedTwoSided, kLeaf, kPair
+        uint32_t child[4];                          // a wide node, or a leaf's (first) emitter
     };
     static constexpr int kWidth = 4;
 
