@@ -33,7 +33,7 @@ ALLOWED = {
 RESTRICTED = {
     "embree3/": ["tracer-node/embree/", "coordinator/accel/", "bench/"],
     "CL/": ["tracer-node/opencl/", "bench/"],
-    "OpenImageIO/": ["common/film/image_io.cpp"],
+    "OpenImageIO/": ["common/film/oiio_module.cpp"],
     "asio": ["common/net/", "coordinator/session/", "tracer-node/", "client/", "tests/", "bench/"],
     "SDL": ["client/", "tests/"],
     "turbojpeg.h": ["common/film/jpeg_codec.cpp"],

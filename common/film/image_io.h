@@ -13,6 +13,9 @@ namespace pathfarm {
 // Writes by extension: .exr (32-bit float, zip) and .pfm hold linear radiance; .png and .jpg
 // are tonemapped sRGB (tonemap.h) with the given exposure.
 Status write_image(const std::string& path, const FloatImage& image, float exposure = 1.0f);
+// Whether write_image can write this path's format here: a known extension, and for EXR, PNG
+// and JPEG the OpenImageIO module loaded. Lets a tool fail before a long render, not after.
+Status check_image_format(const std::string& path);
 // Writes already-encoded 8-bit RGB bytes (for contact sheets and previews).
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 

@@ -91,6 +91,23 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
     EXPECT_NE(run_cli("--help").output.find("--max-depth"), std::string::npos);
 }
 
+// Without the OpenImageIO module (oiio_images.h) PFM still works and an EXR is a one-line
+// error naming where the module was looked for, before any rendering.
+TEST(RenderCli, AMissingImageModuleIsAClearErrorAndPfmNeedsNone) {
+    const std::string dir = test::scratch_dir();
+    const std::string env = "PATHFARM_OIIO_MODULE=" + dir + "/gone.so ";
+    const std::string scene = "--scene builtin:cornell --spp 1 --width 8 --height 8 --out ";
+    const CliRun pfm = run_cli(scene + dir + "/x.pfm", (env + PATHFARM_RENDER_EXE).c_str());
+    EXPECT_EQ(pfm.exit_code, 0) << pfm.output;
+    const CliRun exr = run_cli(scene + dir + "/x.exr", (env + PATHFARM_RENDER_EXE).c_str());
+    EXPECT_EQ(exr.exit_code, 1) << exr.output;
+    EXPECT_NE(exr.output.find("image I/O module libpathfarm_oiio.so not found (tried " + dir +
+                              "/gone.so; set PATHFARM_OIIO_MODULE)"),
+              std::string::npos)
+        << exr.output;
+    EXPECT_EQ(exr.output.find("samples_per_s="), std::string::npos) << exr.output;
+}
+
 TEST(RenderCli, AnimatedSceneRendersAtTheRequestedTime) {
     PF_REQUIRE_SCENES(scenes);
     const std::string dir = test::scratch_dir();

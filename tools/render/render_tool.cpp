@@ -50,7 +50,7 @@ Status check_options(const RenderToolOptions& o) {
                           o.max_depth);
     if (o.seconds < 0.0)
         return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive", o.seconds);
-    return {};
+    return check_image_format(o.out);
 }
 
 // Applies --time/--clip, then skinning and morph targets (at the rest pose without --time).
