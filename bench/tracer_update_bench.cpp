@@ -88,12 +88,37 @@ SceneModel load_or_exit(const std::string& path) {
     return std::move(s.value());
 }
 
+// Moves the instances of `node` (or the first); they are dynamic, as the coordinator's scene
+// graph marks an instance that moved (Instance::dynamic).
 void move_named(SceneModel& s, const std::string& node, const Mat4& by, bool first_only) {
     for (Instance& inst : s.instances)
         if (inst.node >= 0 && s.nodes[std::size_t(inst.node)].name == node) {
             inst.transform = by * inst.transform;
+            inst.dynamic = true;
             if (first_only) return;
         }
+}
+
+// Marks the instances that move or deform over `frames` frames of `sequence` dynamic in every
+// frame, as the coordinator does from their first move on (before it, the first frames).
+Sequence with_dynamic_marked(Sequence sequence, int frames) {
+    const SceneModel first = sequence(0);
+    std::vector<bool> dynamic(first.instances.size(), false);
+    for (int f = 1; f < frames; ++f) {
+        const SceneModel s = sequence(f);
+        for (std::size_t i = 0; i < dynamic.size(); ++i) {
+            const Instance &a = first.instances[i], &b = s.instances[i];
+            dynamic[i] = dynamic[i] || a.transform != b.transform ||
+                         first.meshes[std::size_t(a.mesh)].positions !=
+                             s.meshes[std::size_t(b.mesh)].positions;
+        }
+    }
+    return [sequence, dynamic](int f) {
+        SceneModel s = sequence(f);
+        for (std::size_t i = 0; i < dynamic.size(); ++i)
+            s.instances[i].dynamic = dynamic[i];
+        return s;
+    };
 }
 
 Sequence animated(const SceneModel& base) {
@@ -142,14 +167,16 @@ int main(int argc, char** argv) {
         [&](int f) {
             SceneModel s = def;
             for (Instance& inst : s.instances)
-                if (s.nodes[std::size_t(inst.node)].name == "door")
+                if (s.nodes[std::size_t(inst.node)].name == "door") {
                     inst.transform = default_scene_door_transform(0.03f * float(f));
+                    inst.dynamic = true;
+                }
             return s;
         },
         frames);
     const SceneModel box = load_or_exit(scenes + "/box-animated/BoxAnimated.gltf");
-    run("box-animated", animated(box), frames);
+    run("box-animated", with_dynamic_marked(animated(box), frames), frames);
     const SceneModel man = load_or_exit(scenes + "/cesium-man/CesiumMan.gltf");
-    run("cesium-man-skinned", animated(man), frames);
+    run("cesium-man-skinned", with_dynamic_marked(animated(man), frames), frames);
     return 0;
 }

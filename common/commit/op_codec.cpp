@@ -12,9 +12,10 @@ void put(const SetInstance& o, pb::CommitOp& out, BlobWriter&) {
     w->set_id(o.id);
     w->mutable_instance()->set_mesh(o.instance.mesh);
     w->mutable_instance()->set_transform(mat_bytes(o.instance.transform));
+    w->mutable_instance()->set_dynamic(o.instance.dynamic);
 }
 Status get(const pb::SetInstance& w, const Blobs&, SetInstance& o) {
-    o = SetInstance{w.id(), {w.instance().mesh(), Mat4(1.0f)}};
+    o = SetInstance{w.id(), {w.instance().mesh(), Mat4(1.0f), w.instance().dynamic()}};
     return mat_from(w.instance().transform(), o.instance.transform, "transform");
 }
 

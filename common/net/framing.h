@@ -16,7 +16,9 @@ namespace pathfarm::net {
 // 4: first hits carry flags (FirstHit::kSharp), a byte plane more in first_hits_zstd.
 // 5: assignments say whether next-event estimation chooses emitters through the light tree.
 // 6: first hits carry the triangle and barycentrics of deformed surfaces (motion vectors).
-inline constexpr uint32_t kProtocolVersion = 6;
+// 7: instances say whether they are dynamic (tracers lay out their BVHs by it, so a tracer
+//    that ignored it would render other bits).
+inline constexpr uint32_t kProtocolVersion = 7;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // What a coordinator accepts from tracers (tiles of a whole frame at 4K stay far below) and
 // from clients (input only); what peers accept from the coordinator (commit chunks, frames).

@@ -100,6 +100,7 @@ uint64_t content_hash(const SceneState& s) {
         h.pod(id);
         h.pod(inst.mesh);
         h.pod(inst.transform);
+        h.pod(inst.dynamic);
     }
     for (const auto& [id, c] : s.cameras) {
         h.pod(id);

@@ -40,6 +40,9 @@ struct Instance {
     int node = -1;
     Mat4 transform{1.0f};  // object to world
     uint32_t id = 0;       // the scene graph's id in a replica's model (first hits); 0 if loaded
+    // Moves or deforms from frame to frame (the coordinator's scene graph says so): tracers keep
+    // it out of the BVH they bake static meshes into, so moving it costs a top-level commit.
+    bool dynamic = false;
 };
 
 struct SceneModel {

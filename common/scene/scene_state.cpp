@@ -43,8 +43,9 @@ SceneState scene_state_from_model(const SceneModel& model) {
     for (std::size_t i = 0; i < model.meshes.size(); ++i)
         s.meshes.emplace(uint32_t(i), stripped(model.meshes[i]));
     for (std::size_t i = 0; i < model.instances.size(); ++i)
-        s.instances.emplace(uint32_t(i), InstanceState{uint32_t(model.instances[i].mesh),
-                                                       model.instances[i].transform});
+        s.instances.emplace(
+            uint32_t(i), InstanceState{uint32_t(model.instances[i].mesh),
+                                       model.instances[i].transform, model.instances[i].dynamic});
     for (std::size_t i = 0; i < model.cameras.size(); ++i)
         s.cameras.emplace(uint32_t(i), model.cameras[i]);
     s.environment = model.environment;
@@ -75,7 +76,7 @@ SceneModel to_scene_model(const SceneState& s) {
     }
     for (const auto& [id, inst] : s.instances) {
         const int mesh = remap(meshes, int(inst.mesh));
-        if (mesh >= 0) m.instances.push_back({mesh, -1, inst.transform, id});
+        if (mesh >= 0) m.instances.push_back({mesh, -1, inst.transform, id, inst.dynamic});
     }
     const auto active = s.cameras.find(s.active_camera);
     if (active != s.cameras.end()) m.cameras.push_back(active->second);

@@ -14,6 +14,7 @@ namespace pathfarm {
 struct InstanceState {
     uint32_t mesh = 0;  // mesh id
     Mat4 transform{1.0f};
+    bool dynamic = false;  // Instance::dynamic
 };
 
 // Per-frame render settings that travel with the scene.

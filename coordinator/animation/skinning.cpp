@@ -111,6 +111,7 @@ SceneModel pose_scene(const SceneModel& scene) {
         posed.meshes.push_back(deform_instance(scene, inst, world));
         inst.mesh = int(posed.meshes.size()) - 1;
         if (skinned) inst.transform = Mat4(1.0f);
+        inst.dynamic = true;  // as the coordinator's scene graph marks a deforming instance
     }
     return posed;
 }

@@ -16,7 +16,8 @@ Mesh deform_instance(const SceneModel& scene, const Instance& instance,
                      const std::vector<Mat4>& world);
 
 // The scene as it must be rendered for its current pose: every instance of a skinned or
-// morphed mesh gets its own deformed mesh (skinned ones with an identity transform).
+// morphed mesh gets its own deformed mesh (skinned ones with an identity transform) and is
+// dynamic (Instance::dynamic), as the coordinator marks it.
 // Multithreaded over vertices.
 SceneModel pose_scene(const SceneModel& scene);
 

@@ -82,11 +82,13 @@ void SceneGraph::import(const SceneModel& scene) {
                 state_.meshes.emplace(mesh_id, state_.meshes.at(mesh_ids[src_mesh]));
             }
             const uint32_t inst = new_id();
-            state_.instances.emplace(inst, InstanceState{mesh_id, Mat4(1.0f)});
+            // A deforming instance is dynamic from the start (InstanceState::dynamic).
+            state_.instances.emplace(inst, InstanceState{mesh_id, Mat4(1.0f), deforming});
             g.instance_ids.push_back(inst);
             g.mesh_ids.push_back(mesh_id);
             g.source_meshes.push_back(src_mesh);
             g.deforming.push_back(deforming);
+            g.placed.push_back(false);
         }
         const int cam = scene.nodes[n].camera;
         if (cam >= 0 && cam < int(scene.cameras.size())) {
@@ -132,8 +134,12 @@ void SceneGraph::update_world_transforms(const std::vector<Mat4>& world) {
             InstanceState& inst = state_.instances.at(g.instance_ids[k]);
             if (inst.transform != t) {
                 inst.transform = t;
+                // Moved after it was first placed: dynamic from now on (never back, so a
+                // replica's layout follows the state alone, not the frames it saw).
+                inst.dynamic = inst.dynamic || g.placed[k];
                 changes_.instances_set.insert(g.instance_ids[k]);
             }
+            g.placed[k] = true;
         }
         if (g.camera_id) {
             Mat4 m = world[n];
@@ -271,6 +277,7 @@ Result<uint32_t> SceneGraph::add_node(uint32_t mesh, const Mat4& transform,
     g.mesh_ids.push_back(mesh);
     g.source_meshes.push_back(-1);
     g.deforming.push_back(false);
+    g.placed.push_back(false);
     nodes_.push_back(std::move(g));
     changes_.instances_set.insert(inst);
     transforms_dirty_ = true;
@@ -302,6 +309,7 @@ void SceneGraph::remove_instance(uint32_t node, std::size_t slot) {
         v->erase(v->begin() + std::ptrdiff_t(slot));
     g.source_meshes.erase(g.source_meshes.begin() + std::ptrdiff_t(slot));
     g.deforming.erase(g.deforming.begin() + std::ptrdiff_t(slot));
+    g.placed.erase(g.placed.begin() + std::ptrdiff_t(slot));
 }
 
 Status SceneGraph::remove_node(uint32_t node) {

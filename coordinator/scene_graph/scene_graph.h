@@ -66,6 +66,7 @@ private:
         std::vector<uint32_t> mesh_ids;  // per instance: the replicated mesh it shows
         std::vector<int> source_meshes;  // per instance: index in source_.meshes, or -1
         std::vector<bool> deforming;     // per instance: skinned or morphed
+        std::vector<bool> placed;        // per instance: its first transform has been set
         std::optional<uint32_t> camera_id;
     };
 

@@ -107,6 +107,28 @@ TEST_P(IncrementalUpdate, InstancesOfASharedMeshAlone) {
         3, GetParam());
 }
 
+// Dynamic instances of single meshes (Instance::dynamic): the door and the glass ball become
+// dynamic at frame 1, as the coordinator marks what moved (a new layout), then move and
+// deform as instances; the bits stay a fresh build's throughout.
+TEST_P(IncrementalUpdate, SingleMeshesBecomingDynamic) {
+    const SceneModel base = make_default_scene();
+    expect_updates_match_rebuilds(
+        [&](int f) {
+            SceneModel s = base;
+            EXPECT_EQ(translate_named(s, "glass-ball", Vec3(0.0f, 0.0f, 0.04f * float(f))), 1);
+            EXPECT_EQ(translate_named(s, "door", Vec3(0.03f * float(f), 0.0f, 0.0f)), 1);
+            for (Instance& inst : s.instances) {
+                const std::string& name = s.nodes[std::size_t(inst.node)].name;
+                if (f > 0 && (name == "glass-ball" || name == "door")) inst.dynamic = true;
+                if (f > 2 && name == "glass-ball")  // and then it deforms
+                    for (Vec3& p : s.meshes[std::size_t(inst.mesh)].positions)
+                        p *= 1.0f + 0.01f * float(f);
+            }
+            return s;
+        },
+        5, GetParam());
+}
+
 TEST_P(IncrementalUpdate, DeformedSharedAndSingleMeshes) {
     const SceneModel base = make_default_scene();
     expect_updates_match_rebuilds(

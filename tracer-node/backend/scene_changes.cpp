@@ -14,8 +14,12 @@ SceneChanges diff_scenes(const SceneModel& before, const SceneModel& after) {
     if (before.instances.size() != after.instances.size() ||
         before.meshes.size() != after.meshes.size())
         return SceneChanges::everything();
-    for (uint32_t i = 0; i < after.instances.size(); ++i)
+    for (uint32_t i = 0; i < after.instances.size(); ++i) {
+        // Becoming dynamic changes the backend's layout (Instance::dynamic).
+        if (before.instances[i].dynamic != after.instances[i].dynamic)
+            return SceneChanges::everything();
         if (before.instances[i].transform != after.instances[i].transform) c.instances.push_back(i);
+    }
     for (uint32_t m = 0; m < after.meshes.size(); ++m)
         if (before.meshes[m].positions != after.meshes[m].positions) c.mesh_vertices.push_back(m);
     const auto eye = [](const SceneModel& s) {

@@ -1,11 +1,12 @@
 // EmbreeScene: an Embree 3 device and a two-level scene built from a SceneModel (RAII),
 // answering the integrator's Intersector queries, and updated by what changed instead of built
 // anew. Meshes placed once are baked into one scene with one BVH (what a flat scene traces as
-// fast as); meshes placed several times have a scene of their own in object space, built at
+// fast as); meshes placed several times, and dynamic instances (Instance::dynamic: the
+// coordinator saw them move or deform), have a scene of their own in object space, built at
 // high quality, instanced. A camera move within its recentring cell (scene_model.h) costs
-// nothing; a moved instance of a shared mesh a top-level commit (in scenes of up to 50k baked
-// triangles these share the top level, so it rebuilds them too); a deformed shared mesh a
-// build of that mesh; a moved or deformed mesh placed once a build of the baked BVH. What a
+// nothing; a moved instanced mesh a top-level commit (with up to 4 000 baked triangles these
+// share the top level, so it rebuilds them too); a deformed instanced mesh a build of that
+// mesh; a moved or deformed baked mesh a build of the baked BVH. What a
 // tracer renders never depends on its history: every update gives the bits a fresh build
 // gives (IncrementalUpdate.* tests).
 // Measured with one scene per mesh instead: 1.4-1.5x the time per ray on Sponza and

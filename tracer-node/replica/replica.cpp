@@ -76,7 +76,9 @@ void Replica::note(const CommitOp& op) {
         Overloaded{
             [&](const SetInstance& o) {
                 const auto it = s.instances.find(o.id);
-                if (it == s.instances.end() || it->second.mesh != o.instance.mesh)
+                // Becoming dynamic moves an instance out of the baked BVH: a new layout.
+                if (it == s.instances.end() || it->second.mesh != o.instance.mesh ||
+                    it->second.dynamic != o.instance.dynamic)
                     p.structure = true;
                 else
                     p.instances.insert(o.id);

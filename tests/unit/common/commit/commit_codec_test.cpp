@@ -53,6 +53,19 @@ TEST(CommitCodec, AlphaModesAndTextureTransformsRoundTrip) {
     EXPECT_EQ(b.scene.materials.at(1).alpha_mode, AlphaMode::blend);
 }
 
+// Dynamic instances (InstanceState::dynamic) stay dynamic on the replica: tracers lay out
+// their BVHs by it, so a lost mark would change their bits.
+TEST(CommitCodec, DynamicInstancesRoundTrip) {
+    SceneModel model = make_default_scene();
+    model.instances.at(1).dynamic = true;
+    const auto [d, b] = round_trip(make_snapshot(scene_state_from_model(model), 4));
+    int dynamic = 0;
+    for (const auto& [id, inst] : b.scene.instances)
+        dynamic += inst.dynamic ? 1 : 0;
+    EXPECT_EQ(dynamic, 1);
+    EXPECT_TRUE(b.scene.instances.at(1).dynamic);
+}
+
 // A decode error names the commit, the op's index and kind, and the field.
 TEST(CommitCodec, DecodeErrorsNameTheOpAndTheField) {
     namespace pb = ::pathfarm::wire::v1;
