@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <utility>
 
 #include "common/film/oiio_images.h"
 #include "common/film/pfm.h"
@@ -12,71 +13,83 @@
 namespace pathfarm {
 namespace {
 
-std::string lower_extension(const std::string& path) {
+enum class ImageFormat { pfm, exr, srgb8, unknown };
+
+// By extension, as write_image documents it.
+ImageFormat format_of(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });
-    return ext;
+    if (ext == ".pfm") return ImageFormat::pfm;
+    if (ext == ".exr") return ImageFormat::exr;
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") return ImageFormat::srgb8;
+    return ImageFormat::unknown;
+}
+
+Error unknown_format(const std::string& path) {
+    return make_error(ErrorCode::invalid_argument,
+                      "{}: unknown image extension (use .exr, .pfm or .png)", path);
+}
+
+// Calls `call` with the OpenImageIO module's table, or returns why it could not be loaded.
+template <typename Call>
+auto through_module(Call&& call) -> decltype(call(std::declval<const OiioImages&>())) {
+    const auto oiio = oiio_images();
+    if (!oiio) return oiio.error();
+    return call(**oiio);
 }
 
 }  // namespace
 
 Status write_image(const std::string& path, const FloatImage& image, float exposure) {
-    const std::string ext = lower_extension(path);
-    if (ext == ".pfm") return write_pfm(path, image);
-    if (ext == ".exr") {
-        const auto oiio = oiio_images();
-        if (!oiio) return oiio.error();
-        return (*oiio)->write_exr(path, image);
+    switch (format_of(path)) {
+        case ImageFormat::pfm:
+            return write_pfm(path, image);
+        case ImageFormat::exr:
+            return through_module([&](const OiioImages& m) { return m.write_exr(path, image); });
+        case ImageFormat::srgb8:
+            return write_rgb8(path, image.width, image.height, tonemap_to_srgb8(image, exposure));
+        case ImageFormat::unknown:
+            break;
     }
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg")
-        return write_rgb8(path, image.width, image.height, tonemap_to_srgb8(image, exposure));
-    return make_error(ErrorCode::invalid_argument,
-                      "{}: unknown image extension (use .exr, .pfm or .png)", path);
+    return unknown_format(path);
 }
 
 Status check_image_format(const std::string& path) {
-    const std::string ext = lower_extension(path);
-    if (ext == ".pfm") return {};
-    if (ext == ".exr" || ext == ".png" || ext == ".jpg" || ext == ".jpeg") {
-        const auto oiio = oiio_images();
-        if (!oiio) return oiio.error();
-        return {};
+    switch (format_of(path)) {
+        case ImageFormat::pfm:
+            return {};
+        case ImageFormat::exr:
+        case ImageFormat::srgb8:
+            return through_module([](const OiioImages&) { return Status{}; });
+        case ImageFormat::unknown:
+            break;
     }
-    return make_error(ErrorCode::invalid_argument,
-                      "{}: unknown image extension (use .exr, .pfm or .png)", path);
+    return unknown_format(path);
 }
 
 Status write_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
-    const auto oiio = oiio_images();
-    if (!oiio) return oiio.error();
-    return (*oiio)->write_rgb8(path, width, height, rgb);
+    return through_module(
+        [&](const OiioImages& m) { return m.write_rgb8(path, width, height, rgb); });
 }
 
 Result<std::vector<uint8_t>> encode_png(int width, int height, const std::vector<uint8_t>& rgb) {
-    const auto oiio = oiio_images();
-    if (!oiio) return oiio.error();
-    return (*oiio)->encode_png(width, height, rgb);
+    return through_module([&](const OiioImages& m) { return m.encode_png(width, height, rgb); });
 }
 
 Result<FloatImage> read_image(const std::string& path) {
-    if (lower_extension(path) == ".pfm") return read_pfm(path);
-    const auto oiio = oiio_images();
-    if (!oiio) return oiio.error();
-    return (*oiio)->read_image(path);
+    if (format_of(path) == ImageFormat::pfm) return read_pfm(path);
+    return through_module([&](const OiioImages& m) { return m.read_image(path); });
 }
 
 Result<Rgba8Image> read_rgba8(const std::string& path) {
-    const auto oiio = oiio_images();
-    if (!oiio) return oiio.error();
-    return (*oiio)->read_rgba8(path);
+    return through_module([&](const OiioImages& m) { return m.read_rgba8(path); });
 }
 
 Result<Rgba8Image> decode_rgba8(const unsigned char* data, std::size_t size,
                                 const std::string& name_hint) {
-    const auto oiio = oiio_images();
-    if (!oiio) return oiio.error();
-    return (*oiio)->decode_rgba8(data, size, name_hint);
+    return through_module(
+        [&](const OiioImages& m) { return m.decode_rgba8(data, size, name_hint); });
 }
 
 }  // namespace pathfarm

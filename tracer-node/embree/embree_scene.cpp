@@ -213,15 +213,15 @@ struct EmbreeScene::Impl {
         // A dynamic instance of a mesh placed once is instanced like a shared mesh's: moving it
         // is then a top-level commit, not a build of every baked triangle.
         std::size_t baked_triangles = 0;
-        bool any_shared = false;
+        bool any_instanced = false;
         for (std::size_t m = 0; m < shared.size(); ++m) {
             if (baked_mesh(scene, m))
                 baked_triangles += scene.meshes[m].triangle_count();
             else
-                any_shared |= !shared[m].users.empty();
+                any_instanced |= !shared[m].users.empty();
         }
         top = rtcNewScene(device);
-        baked = any_shared && baked_triangles > kFlatTopTriangles ? rtcNewScene(device) : top;
+        baked = any_instanced && baked_triangles > kFlatTopTriangles ? rtcNewScene(device) : top;
         if (baked == top) rtcRetainScene(top);  // released as `baked` and as `top`
         rtcSetSceneBuildQuality(baked, RTC_BUILD_QUALITY_HIGH);
         for (uint32_t i = 0; i < count; ++i) {
