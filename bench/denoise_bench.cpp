@@ -17,7 +17,9 @@
 // denoised, reference at the strip frame). Arguments: path, scenes folder, cache folder, out
 // folder, frames (121), reference spp (512), strip frame (60), the wavelet's kernel radius (1)
 // and levels (5), the luminance edge's sigma (8), the temporal anti-aliasing's blend factor
-// (DenoiseOptions::taa_alpha; 0: off).
+// (DenoiseOptions::taa_alpha; 0: off), extra samples per pixel on average (0) and where they go
+// (`targeted`: where history is short, as the farm plans them from the history two frames
+// back, coordinator/pacing/extra_samples.h; `dither`: spread evenly).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -35,6 +37,7 @@
 #include "common/scene/scene_state.h"
 #include "coordinator/converge/denoiser.h"
 #include "coordinator/frame/frame_pipeline.h"
+#include "coordinator/pacing/extra_samples.h"
 #include "tracer-node/backend/render_backend.h"
 
 using namespace pathfarm;
@@ -94,15 +97,14 @@ struct Shot {
 };
 
 FloatImage render(tracer::RenderBackend& backend, const Shot& s, uint32_t frame, uint32_t seed,
-                  int spp, std::vector<FirstHit>* hits) {
+                  int spp, std::vector<FirstHit>* hits,
+                  const std::vector<uint8_t>* extra = nullptr) {
     FloatImage image(kWidth, kHeight);
     if (hits) hits->assign(std::size_t(kWidth) * kHeight, FirstHit{});
-    const tracer::RenderJob job{FrameSpec{kWidth, kHeight, frame, seed, spp, 0, s.camera},
-                                IntegratorSettings{},
-                                0,
-                                kHeight,
-                                {},
-                                hits ? hits->data() : nullptr};
+    FrameSpec spec{kWidth, kHeight, frame, seed, spp, 0, s.camera};
+    if (extra && !extra->empty()) spec.extra_samples = extra->data();
+    const tracer::RenderJob job{spec, IntegratorSettings{},         0, kHeight,
+                                {},   hits ? hits->data() : nullptr};
     if (!backend.render_rows(job, image.rgb.data())) fail("render failed");
     if (hits)
         for (FirstHit& h : *hits)
@@ -136,6 +138,8 @@ struct Args {
     std::string path, cache, out;
     int frames = 121, ref_spp = 512, strip_frame = 60;
     coord::DenoiseOptions denoise;
+    double extra = 0.0;
+    bool targeted = true;
 };
 
 // The cached reference of frame k, or a fresh render of it (written to the cache).
@@ -169,7 +173,10 @@ public:
         shot.camera = recentre_on_camera(shot.model, view.camera);
         if (Status s = backend_.set_scene(shot.model); !s) fail(s.error().message);
         std::vector<FirstHit> hits;
-        const FloatImage raw = render(backend_, shot, uint32_t(k), 1, 1, &hits);
+        const std::vector<uint8_t> extra =
+            coord::plan_extra_samples(a_.targeted ? history_[0] : std::vector<float>{}, kWidth,
+                                      kHeight, a_.extra, uint64_t(k));
+        const FloatImage raw = render(backend_, shot, uint32_t(k), 1, 1, &hits, &extra);
         view.gbuffer =
             coord::gbuffer_from_first_hits(hits, kWidth, kHeight, view.camera, kWidth, kHeight);
         FloatImage converged = raw, denoised = raw;
@@ -177,6 +184,8 @@ public:
         const Timer timer;
         denoiser_.filter(denoised, std::move(view), true);
         const double denoise_ms = timer.milliseconds();
+        history_[0] = std::move(history_[1]);  // the farm plans from two frames back
+        history_[1] = denoiser_.history_frames();
         const std::map<std::string, const FloatImage*> outputs = {
             {"raw", &raw}, {"converging", &converged}, {"denoised", &denoised}};
         if (is_reference_frame(k)) compare(k, shot, outputs, denoise_ms);
@@ -218,6 +227,7 @@ private:
     coord::TemporalAccumulator accumulator_;
     coord::Denoiser denoiser_;
     std::map<std::string, FloatImage> previous_;  // method -> last frame's output
+    std::vector<float> history_[2];               // the denoiser's, two and one frames back
     FloatImage previous_ref_;
 };
 
@@ -242,6 +252,8 @@ int main(int argc, char** argv) {
     if (argc > 9) a.denoise.atrous.levels = std::atoi(argv[9]);
     if (argc > 10) a.denoise.atrous.sigma_luminance = float(std::atof(argv[10]));
     if (argc > 11) a.denoise.taa_alpha = float(std::atof(argv[11]));
+    if (argc > 12) a.extra = std::atof(argv[12]);
+    if (argc > 13) a.targeted = std::string(argv[13]) != "dither";
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

@@ -190,6 +190,10 @@ void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
     app.add_flag("--fixed-spp", f.fixed_spp,
                  "No pacing and no workload scaling: every frame at --spp and full size, as fast "
                  "as the farm goes");
+    app.add_option("--extra-samples", f.extra_samples,
+                   "With --fixed-spp: samples beyond --spp per pixel on average, in [0, 1], "
+                   "where history is short (workload scaling chooses its own)")
+        ->capture_default_str();
     app.add_flag("--no-converge", c.no_converge,
                  "Send each frame's own samples (no blending with reprojected history)");
     app.add_option("--denoise", c.denoise,

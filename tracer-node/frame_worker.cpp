@@ -7,6 +7,7 @@
 
 #include "common/base/timer.h"
 #include "common/base/work_unit.h"
+#include "common/film/extra_samples_codec.h"
 #include "common/film/first_hits.h"
 #include "common/film/float_codec.h"
 
@@ -87,6 +88,15 @@ Status FrameWorker::render(const wire::Assignment& a) {
                           int(a.spp),
                           0,
                           scene_.cameras.empty() ? Camera{} : scene_.cameras[0]};
+    std::vector<uint8_t> extra;  // outlives the job's rendering
+    if (!a.extra_samples_zstd.empty()) {
+        auto map = decode_extra_samples(a.extra_samples_zstd, int(a.width), int(a.height));
+        if (!map)
+            return make_error(ErrorCode::parse_error, "assignment of frame {}: {}", a.frame,
+                              map.error().message);
+        extra = std::move(*map);
+        job.frame.extra_samples = extra.data();
+    }
     job.integrator.max_depth = int(a.max_depth);
     job.integrator.rr_scale = std::min(1.0f, a.rr_scale);
     job.integrator.light_selection = a.light_tree ? LightSelection::tree : LightSelection::power;

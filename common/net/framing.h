@@ -18,7 +18,9 @@ namespace pathfarm::net {
 // 6: first hits carry the triangle and barycentrics of deformed surfaces (motion vectors).
 // 7: instances say whether they are dynamic (tracers lay out their BVHs by it, so a tracer
 //    that ignored it would render other bits).
-inline constexpr uint32_t kProtocolVersion = 7;
+// 8: assignments may give some pixels more samples than spp (FrameAssignment.extra_samples_zstd;
+//    a tracer that ignored it would render other bits).
+inline constexpr uint32_t kProtocolVersion = 8;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // What a coordinator accepts from tracers (tiles of a whole frame at 4K stay far below) and
 // from clients (input only); what peers accept from the coordinator (commit chunks, frames).

@@ -45,9 +45,19 @@ std::string envelope_with(int field, const std::string& message) {
 }
 
 Result<Assignment> to_assignment(const pb::FrameAssignment& w) {
-    Assignment a{w.frame(),     w.commit(),   w.y0(),         w.y1(),
-                 w.width(),     w.height(),   w.spp(),        w.seed(),
-                 w.max_depth(), w.rr_scale(), w.first_hits(), w.light_tree()};
+    Assignment a{w.frame(),
+                 w.commit(),
+                 w.y0(),
+                 w.y1(),
+                 w.width(),
+                 w.height(),
+                 w.spp(),
+                 w.seed(),
+                 w.max_depth(),
+                 w.rr_scale(),
+                 w.first_hits(),
+                 w.light_tree(),
+                 w.extra_samples_zstd()};
     if (a.rr_scale == 0.0f) a.rr_scale = 1.0f;  // absent: full survival
     if (a.width == 0 || a.height == 0 || a.width > kMaxImageSide || a.height > kMaxImageSide ||
         a.y0 >= a.y1 || a.y1 > a.height)
@@ -78,6 +88,7 @@ std::string encode_assignment(const Assignment& a) {
     if (a.rr_scale < 1.0f) w->set_rr_scale(a.rr_scale);
     w->set_first_hits(a.first_hits);
     w->set_light_tree(a.light_tree);
+    w->set_extra_samples_zstd(a.extra_samples_zstd);
     return e.SerializeAsString();
 }
 

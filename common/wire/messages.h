@@ -28,6 +28,9 @@ struct Assignment {
     float rr_scale = 1.0f;    // Russian-roulette survival scale in (0, 1] (workload scaling)
     bool first_hits = false;  // send each pixel's first hit with the tiles
     bool light_tree = false;  // next-event estimation through the light tree, not by power
+    // Samples beyond spp per pixel of the whole frame (FrameSpec::extra_samples), zstd-
+    // compressed as common/film/extra_samples_codec.h writes them; empty for none.
+    std::string extra_samples_zstd{};
 };
 
 // Coordinator -> tracer: the rows of `frame` from `row` on went to another tracer: stop before

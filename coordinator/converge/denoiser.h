@@ -45,6 +45,7 @@ public:
         taa_.reset();
     }
     float min_history_frames() const { return accumulator_.min_history_frames(); }
+    const std::vector<float>& history_frames() const { return accumulator_.history_frames(); }
     const FloatImage& output() const { return output_; }  // the last denoised image
 
 private:

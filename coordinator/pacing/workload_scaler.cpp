@@ -2,6 +2,7 @@
 #include "coordinator/pacing/workload_scaler.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pathfarm::coord {
 
@@ -10,14 +11,22 @@ WorkloadScaler::WorkloadScaler(const ScalerOptions& options) : o_(options) {
     // 1 spp, where a real-time farm usually sits, resolution steps of 5 % (about 1.1x in
     // work): with 10 % steps the demo's frames settled at 76 ms of a 90 ms budget, the next
     // step up predicted at 94.
-    for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 4 ? (spp * 2) / 3 : spp - 1)
-        ladder_.push_back({spp, 1.0f, 1.0f});
+    // From 4 spp down, steps of one spp are split by extra samples into steps of about 1.1x:
+    // with whole samples alone a farm that could not afford 2 spp sat at 1 with its tracers
+    // idle 30 % of each frame (the demo at 320x180).
+    for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 4 ? (spp * 2) / 3 : spp - 1) {
+        ladder_.push_back({spp, 0.0f, 1.0f, 1.0f});
+        if (spp == 1 || spp > 4) continue;
+        const int steps = int(std::ceil(std::log(double(spp) / (spp - 1)) / std::log(1.1)));
+        for (int k = steps - 1; k >= 1; --k)
+            ladder_.push_back({spp - 1, float(k) / float(steps), 1.0f, 1.0f});
+    }
     for (float rr : {0.75f, 0.5f, 0.35f})
-        if (rr >= o_.min_rr_scale) ladder_.push_back({1, rr, 1.0f});
+        if (rr >= o_.min_rr_scale) ladder_.push_back({1, 0.0f, rr, 1.0f});
     const float rr = ladder_.back().rr_scale;
     for (int percent = 95; percent >= 30; percent -= 5) {
         const float res = float(percent) / 100.0f;
-        if (res >= o_.min_resolution) ladder_.push_back({1, rr, res});
+        if (res >= o_.min_resolution) ladder_.push_back({1, 0.0f, rr, res});
     }
 }
 
@@ -26,7 +35,7 @@ double WorkloadScaler::work(const QualityLevel& l) {
     // (bench/realtime_bench.py, median frame 74 ms at scale 1, 66 ms at 0.5): the primary
     // ray, the first bounces (before roulette starts) and shading keep most of the cost.
     const double path = 0.78 + 0.22 * double(l.rr_scale);
-    return double(l.spp) * double(l.resolution) * double(l.resolution) * path;
+    return (double(l.spp) + double(l.extra)) * double(l.resolution) * double(l.resolution) * path;
 }
 
 double WorkloadScaler::predict_ms(const QualityLevel& l) const {

@@ -1,6 +1,7 @@
 // Dynamic workload scaling (Brigade §4.7): holds a target frame rate by moving down (or back
-// up) a ladder of quality levels, cheapest knob first: samples per pixel, then the Russian-
-// roulette survival probability, then the render resolution (upscaled for display). It never
+// up) a ladder of quality levels, cheapest knob first: samples per pixel (between one spp and
+// the next, a share of the pixels takes one more: extra_samples.h), then the Russian-roulette
+// survival probability, then the render resolution (upscaled for display). It never
 // goes below the configured floor; when even the floor is too slow it says so (at_floor()).
 //
 // The controller predicts a level's frame time as fixed + k * work(level), where work is the
@@ -18,6 +19,7 @@ namespace pathfarm::coord {
 
 struct QualityLevel {
     int spp = 1;
+    float extra = 0.0f;       // samples beyond spp per pixel on average, in [0, 1)
     float rr_scale = 1.0f;    // Russian-roulette survival scale (1: unscaled)
     float resolution = 1.0f;  // render size over display size, per axis
 };
@@ -30,7 +32,7 @@ struct ScalerOptions {
     // Aim frame time at this fraction of the frame interval: what is left is the loop's own
     // prepare and send (the display runs beside the next frame: session/frame_display.h).
     double headroom = 0.9;
-    double rise_margin = 0.92;  // a better level must be predicted within this much of that
+    double rise_margin = 0.96;  // a better level must be predicted within this much of that
 };
 
 class WorkloadScaler {

@@ -12,6 +12,7 @@
 
 #include "common/base/timer.h"
 #include "common/commit/commit_codec.h"
+#include "common/film/extra_samples_codec.h"
 #include "common/film/image_io.h"
 #include "common/film/resample.h"
 #include "common/net/framing.h"
@@ -20,6 +21,7 @@
 #include "coordinator/frame/farm_stats.h"
 #include "coordinator/frame/frame_pipeline.h"
 #include "coordinator/http/web_port.h"
+#include "coordinator/pacing/extra_samples.h"
 #include "coordinator/pacing/workload_scaler.h"
 #include "coordinator/session/client_hub.h"
 #include "coordinator/session/frame_display.h"
@@ -69,7 +71,8 @@ private:
     PreparedFrame prepare(uint64_t frame);
     bool converged_and_unchanged(const PreparedFrame& p);
     void begin_frame(uint64_t frame, const PreparedFrame& p, bool render);
-    FrameWork next_work(uint64_t frame) const;
+    FrameWork next_work(uint64_t frame);
+    void plan_extra_samples(FrameWork& w, double budget);
     void observe_frame_time(double frame_ms, const FrameOutcome& outcome);
     void display(PreparedFrame& p, FrameOutcome outcome, double frame_ms, bool rendered);
     void log_rate(uint64_t frame, int completed);
@@ -176,18 +179,44 @@ bool Farm::converged_and_unchanged(const PreparedFrame& p) {
            display_.min_history_frames() >= float(o_.converged_frames);
 }
 
-FrameWork Farm::next_work(uint64_t frame) const {
+FrameWork Farm::next_work(uint64_t frame) {
     // Converging reprojects with the tracers' first hits.
-    FrameWork w{frame,        o_.width, o_.height,    o_.spp,
-                1.0f,         o_.seed,  o_.max_depth, o_.converge || o_.denoise,
-                o_.light_tree};
-    if (!scaler_) return w;
+    FrameWork w;
+    w.frame = frame;
+    w.width = o_.width;
+    w.height = o_.height;
+    w.spp = o_.spp;
+    w.seed = o_.seed;
+    w.max_depth = o_.max_depth;
+    w.first_hits = o_.converge || o_.denoise;
+    w.light_tree = o_.light_tree;
+    if (!scaler_) {
+        plan_extra_samples(w, o_.extra_samples);
+        return w;
+    }
     const QualityLevel& l = scaler_->level();
     w.width = std::max(8, int(std::lround(o_.width * l.resolution)));
     w.height = std::max(8, int(std::lround(o_.height * l.resolution)));
     w.spp = l.spp;
     w.rr_scale = l.rr_scale;
+    plan_extra_samples(w, l.extra);
     return w;
+}
+
+// Extra samples go where the history is short as frame N - 2 left it: N - 1 may still be
+// showing, and waiting for a fixed frame keeps the plan independent of the display's timing.
+void Farm::plan_extra_samples(FrameWork& w, double budget) {
+    if (!(budget > 0.0)) return;
+    std::vector<float> history;
+    if (w.frame >= 2) history = display_.history_after(w.frame - 2);
+    if (w.width != o_.width || w.height != o_.height) history.clear();
+    const std::vector<uint8_t> map =
+        coord::plan_extra_samples(history, w.width, w.height, budget, w.frame);
+    std::size_t total = 0;
+    for (const uint8_t e : map)
+        total += e;
+    w.extra = double(total) / double(map.size());
+    if (total > 0) w.extra_samples_zstd = encode_extra_samples(map);
 }
 
 void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {
@@ -307,6 +336,12 @@ Status check_options(const FarmOptions& o) {
     if (o.jpeg_quality < 1 || o.jpeg_quality > 100)
         return make_error(ErrorCode::invalid_argument, "--jpeg-quality {}: must be in [1, 100]",
                           o.jpeg_quality);
+    if (!(o.extra_samples >= 0.0 && o.extra_samples <= 1.0))
+        return make_error(ErrorCode::invalid_argument, "--extra-samples {}: must be in [0, 1]",
+                          o.extra_samples);
+    if (o.extra_samples > 0.0 && !o.fixed_spp)
+        return make_error(ErrorCode::invalid_argument,
+                          "--extra-samples needs --fixed-spp (workload scaling chooses its own)");
     if (!(o.min_rr_scale > 0.0f && o.min_rr_scale <= 1.0f) ||
         !(o.min_resolution > 0.0f && o.min_resolution <= 1.0f) || !(o.target_fps >= 0.0))
         return make_error(

@@ -48,6 +48,9 @@ struct FarmOptions {
     bool denoise = true;
     bool light_tree = true;  // --light-sampler tree|power (IntegratorSettings::light_selection)
     bool fixed_spp = false;
+    // With fixed_spp: samples beyond spp per pixel on average, in [0, 1], placed where history
+    // is short (coordinator/pacing/extra_samples.h). Workload scaling chooses its own.
+    double extra_samples = 0.0;
     double target_fps = 0.0;                           // frame rate to hold; 0: `fps`
     float min_rr_scale = 0.5f, min_resolution = 0.5f;  // workload scaling's quality floor
     std::string game = "auto";                         // coordinator/game/game.h

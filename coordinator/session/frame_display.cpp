@@ -34,6 +34,14 @@ float FrameDisplay::min_history_frames() {
     return o_.denoise ? denoiser_.min_history_frames() : accumulator_.min_history_frames();
 }
 
+std::vector<float> FrameDisplay::history_after(uint64_t frame) {
+    std::unique_lock lock(mutex_);
+    cv_.wait(lock, [&] { return last_shown_ >= int64_t(frame) || (queue_.empty() && !busy_); });
+    for (auto it = histories_.rbegin(); it != histories_.rend(); ++it)
+        if (it->first <= frame) return it->second;
+    return {};
+}
+
 void FrameDisplay::finish() {
     {
         std::lock_guard lock(mutex_);
@@ -55,8 +63,14 @@ void FrameDisplay::run() {
         cv_.notify_all();  // the loop may queue the next frame while this one is shown
         lock.unlock();
         show(job);
+        std::vector<float> history;
+        if (o_.converge)
+            history = o_.denoise ? denoiser_.history_frames() : accumulator_.history_frames();
         lock.lock();
         busy_ = false;
+        last_shown_ = int64_t(job.work.frame);
+        histories_.emplace_back(job.work.frame, std::move(history));
+        if (histories_.size() > 3) histories_.pop_front();
         cv_.notify_all();
     }
 }
@@ -99,8 +113,8 @@ void FrameDisplay::record(const DisplayJob& job, const ConvergeStats& converged,
     const FrameWork& w = job.work;
     const FrameOutcome& out = job.outcome;
     frame_stats_.row(w.frame, job.tracers, job.frame_ms, out.idle_pct, job.commit_bytes,
-                     out.tile_bytes, job.rendered ? w.spp : 0, w.rr_scale, w.width, w.height,
-                     converged.mean_f, converged.kept, int(job.at_floor), display_ms,
+                     out.tile_bytes, job.rendered ? w.spp + w.extra : 0.0, w.rr_scale, w.width,
+                     w.height, converged.mean_f, converged.kept, int(job.at_floor), display_ms,
                      clock_.milliseconds(), denoise_ms);
     FrameSample sample{job.rendered,     job.frame_ms,   job.tracers,
                        job.commit_bytes, out.tile_bytes, {}};

@@ -23,7 +23,7 @@ namespace pathfarm::coord {
 
 // One frame to show, with everything the display needs of the loop's state at the time.
 struct DisplayJob {
-    FrameWork work;         // what was rendered (size, spp, roulette)
+    FrameWork work;         // what was rendered (size, spp, extra samples, roulette)
     FrameView view;         // camera, instances, cut; its G-buffer is made from the first hits
     FrameOutcome outcome;   // the tiles' image, first hits and statistics
     bool rendered = true;   // false: converged and unchanged, the last output again
@@ -43,6 +43,10 @@ public:
     void submit(DisplayJob job);
     // Least frames of history over the pixels once every submitted frame is shown.
     float min_history_frames();
+    // Each pixel's frames of history as frame `frame` left it (waiting until it is shown), or
+    // as the last frame shown before it left it when `frame` was never submitted; empty
+    // without converging. The same whatever the display thread did since.
+    std::vector<float> history_after(uint64_t frame);
     void finish();  // shows what was submitted and stops the thread
 
 private:
@@ -62,6 +66,9 @@ private:
     std::condition_variable cv_;
     std::deque<DisplayJob> queue_;
     bool busy_ = false, stopping_ = false;
+    int64_t last_shown_ = -1;  // the frame number last shown
+    // The history lengths the last few frames shown left, by frame number (history_after).
+    std::deque<std::pair<uint64_t, std::vector<float>>> histories_;
     std::thread thread_;  // last: starts once everything above exists
 };
 

@@ -34,6 +34,10 @@ struct FrameWork {
     int max_depth = 8;
     bool first_hits = false;  // the tiles carry first hits (FrameOutcome::first_hits)
     bool light_tree = false;  // IntegratorSettings::light_selection is tree
+    // Samples beyond spp (coordinator/pacing/extra_samples.h): their mean per pixel, and the
+    // map in its wire form (common/film/extra_samples_codec.h; empty: none).
+    double extra = 0.0;
+    std::string extra_samples_zstd{};
 };
 
 // A commit as envelopes, plain and with the BVH ops for tracers that traverse the

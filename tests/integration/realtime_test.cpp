@@ -137,6 +137,43 @@ TEST(RealtimeFarm, DefaultGameMovesTheBallAndSwitchesTheLight) {
     EXPECT_LT(num(rows[29], kF), 0.5);
 }
 
+// --extra-samples with --fixed-spp: the coordinator plans them (where the rolling ball leaves
+// short history, the rest dithered), the stats count them, and the frames do not depend on how
+// the rows were split (one tracer or two) nor on the display thread's timing: the plan reads
+// the history of a fixed earlier frame.
+TEST(RealtimeFarm, ExtraSamplesAreCountedAndTheFramesIndependentOfTheSplit) {
+    struct Run {
+        std::vector<std::vector<std::string>> stats;
+        std::vector<std::string> frames;  // the dumped PFMs' bytes (the farms share a folder)
+    };
+    const auto run = [](int tracers, const char* extra) {
+        Farm farm;
+        farm.mode = {"--fixed-spp", "--fps", "10", "--denoise", "off", "--extra-samples", extra};
+        farm.spp = 1;
+        farm.start({"--frames", "8", "--min-tracers", std::to_string(tracers)});
+        for (int t = 0; t < tracers; ++t)
+            farm.add_tracer(std::string(1, char('a' + t)), {"--max-reconnects", "0"});
+        EXPECT_EQ(farm.finish(), 0);
+        Run r{farm.csv("stats.csv"), {}};
+        for (int f = 0; f < 8; ++f)
+            r.frames.push_back(test::read_file(farm.frame(f)));
+        return r;
+    };
+    const Run one = run(1, "0.25"), two = run(2, "0.25"), none = run(1, "0");
+    ASSERT_EQ(two.stats.size(), 8u);
+    for (const auto& r : two.stats) {
+        EXPECT_GT(num(r, kSpp), 1.2) << "frame " << r.at(kFrame);
+        EXPECT_LE(num(r, kSpp), 1.25) << "frame " << r.at(kFrame);
+    }
+    for (int f = 0; f < 8; ++f) {
+        EXPECT_FALSE(one.frames[f].empty()) << "frame " << f;
+        EXPECT_TRUE(one.frames[f] == two.frames[f]) << "frame " << f;
+    }
+    ASSERT_EQ(none.stats.size(), 8u);
+    EXPECT_EQ(num(none.stats[3], kSpp), 1.0);
+    EXPECT_FALSE(one.frames[3] == none.frames[3]) << "the tracers did take them";
+}
+
 // The window: under Xvfb, xdotool holds W, presses E and moves the mouse; the window's own
 // screenshot must show one of the frames the client received.
 TEST(RealtimeClient, WindowShowsFramesAndSendsKeyboardAndMouseInput) {
@@ -261,6 +298,13 @@ TEST(RealtimeCli, BadInputIsAOneLineError) {
         {kCoordinator, "--scene", "builtin:default", "--tracer-port", "0", "--jpeg-quality", "0"},
         farm.dir + "/b.log");
     EXPECT_EQ(quality.wait(10s), std::optional<int>(2));
+    Process extra({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0",
+                   "--extra-samples", "0.5"},
+                  farm.dir + "/d.log");
+    EXPECT_EQ(extra.wait(10s), std::optional<int>(2));
+    EXPECT_NE(test::read_file(farm.dir + "/d.log").find("--extra-samples needs --fixed-spp"),
+              std::string::npos)
+        << test::read_file(farm.dir + "/d.log");
     unsetenv("DISPLAY");
     Process no_display({kClient, "--connect", "127.0.0.1:1"}, farm.dir + "/c.log");
     EXPECT_NE(no_display.wait(10s).value_or(0), 0);

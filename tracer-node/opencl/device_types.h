@@ -206,7 +206,7 @@ typedef struct {
     float rr_scale;
     pf_int first_hits;        // nonzero: write each pixel's first hit (common/film/first_hits.h)
     pf_int light_candidates;  // IntegratorSettings::light_candidates
-    pf_uint pad;
+    pf_int extra_samples;     // nonzero: the extra_samples argument holds a byte per pixel
 } PfFrameParams;
 
 // The scene's device arrays in kernel argument order (after PfFrameParams, before the

@@ -40,7 +40,7 @@ struct OpenClBackend::Impl {
 #undef PF_DEVICE_ARRAY
     DeviceArray globals;
     std::map<uint32_t, cl::Kernel> kernels;  // by variant
-    cl::Buffer out, counters, first_hits;
+    cl::Buffer out, counters, first_hits, extra_samples;
     std::size_t out_capacity = 0;
     std::vector<uint32_t> counter_host;
 
@@ -65,6 +65,7 @@ struct OpenClBackend::Impl {
     }
 
     Status reserve_output(std::size_t pixels);
+    Status upload_extra_samples(const RenderJob& job);
     Status set_arguments(cl::Kernel& k, const PfFrameParams& fp);
     Result<SampleCounters> launch(cl::Kernel& k, int width, std::size_t rows, float* pixels_out,
                                   FirstHit* hits_out);
@@ -148,6 +149,7 @@ PfFrameParams frame_params(const RenderJob& job) {
     fp.rr_scale = job.integrator.rr_scale;
     fp.first_hits = job.first_hits != nullptr;
     fp.light_candidates = job.integrator.light_candidates;
+    fp.extra_samples = f.extra_samples != nullptr;
     return fp;
 }
 
@@ -165,6 +167,8 @@ Status OpenClBackend::Impl::reserve_output(std::size_t pixels) {
     first_hits =
         cl::Buffer(shared->context, CL_MEM_WRITE_ONLY, pixels * sizeof(FirstHit), nullptr, &err);
     if (err != CL_SUCCESS) return cl_failure("allocating the first hits", err);
+    extra_samples = cl::Buffer(shared->context, CL_MEM_READ_ONLY, pixels, nullptr, &err);
+    if (err != CL_SUCCESS) return cl_failure("allocating the extra samples", err);
     out_capacity = pixels;
     return {};
 }
@@ -179,6 +183,7 @@ Status OpenClBackend::Impl::set_arguments(cl::Kernel& k, const PfFrameParams& fp
     if (err == CL_SUCCESS) err = k.setArg(arg++, out);
     if (err == CL_SUCCESS) err = k.setArg(arg++, counters);
     if (err == CL_SUCCESS) err = k.setArg(arg++, first_hits);
+    if (err == CL_SUCCESS) err = k.setArg(arg++, extra_samples);
     if (err != CL_SUCCESS) return cl_failure("setting kernel arguments", err);
     return {};
 }
@@ -214,6 +219,18 @@ Result<SampleCounters> OpenClBackend::Impl::launch(cl::Kernel& k, int width, std
     return c;
 }
 
+// The job's rows of its extra-sample map, when it has one.
+Status OpenClBackend::Impl::upload_extra_samples(const RenderJob& job) {
+    const FrameSpec& f = job.frame;
+    if (!f.extra_samples) return {};
+    const std::size_t first = std::size_t(job.y0) * std::size_t(f.width);
+    const std::size_t bytes = std::size_t(job.y1 - job.y0) * std::size_t(f.width);
+    const cl_int err =
+        queue.enqueueWriteBuffer(extra_samples, CL_FALSE, 0, bytes, f.extra_samples + first);
+    if (err != CL_SUCCESS) return cl_failure("uploading the extra samples", err);
+    return {};
+}
+
 Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out) {
     Impl& d = *impl_;
     const FrameSpec& f = job.frame;
@@ -232,12 +249,16 @@ Result<RenderStats> OpenClBackend::render_rows(const RenderJob& job, float* out)
     if (!kernel) return kernel.error();
     const std::size_t rows = std::size_t(job.y1 - job.y0);
     if (Status s = d.reserve_output(rows * std::size_t(f.width)); !s) return s.error();
+    if (Status s = d.upload_extra_samples(job); !s) return s.error();
     const PfFrameParams fp = frame_params(job);
     if (Status s = d.set_arguments(*kernel, fp); !s) return s.error();
     auto counters = d.launch(*kernel, f.width, rows, out, job.first_hits);
     if (!counters) return counters.error();
     stats.counters = *counters;
     stats.counters.camera_samples = uint64_t(rows) * uint64_t(f.width) * uint64_t(fp.spp);
+    if (f.extra_samples)
+        for (std::size_t i = std::size_t(job.y0) * f.width; i < std::size_t(job.y1) * f.width; ++i)
+            stats.counters.camera_samples += f.extra_samples[i];
     stats.seconds = timer.seconds();
     return stats;
 }

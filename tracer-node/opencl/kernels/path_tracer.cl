@@ -112,7 +112,8 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfShadi
     const int m = clamp(fp->light_candidates, 1, PF_MAX_LIGHT_CANDIDATES);
     if (m == 1) {
         PfLightCandidate c;
-        if (!pf_light_candidate(s, fp, x, u_select.x, u_light, &c) || !pf_unoccluded(s, x, &c, rays))
+        if (!pf_light_candidate(s, fp, x, u_select.x, u_light, &c) ||
+            !pf_unoccluded(s, x, &c, rays))
             return (float3)(0.0f);
         return c.contribution;
     }
@@ -160,9 +161,10 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (!found) {
             if (PF_ENVIRONMENT && s->globals->has_environment && count_emission) {
                 const float3 le = pf_environment_radiance(s->globals, ray.d);
-                const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
-                                    ? 1.0f
-                                    : pf_power_heuristic(bsdf_pdf, pf_environment_pdf(s->globals, ray.d));
+                const float w =
+                    delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
+                        ? 1.0f
+                        : pf_power_heuristic(bsdf_pdf, pf_environment_pdf(s->globals, ray.d));
                 radiance += beta * le * w;
             }
             break;
@@ -174,9 +176,11 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (PF_EMITTERS && count_emission) {
             const float3 le = pf_emitted(s, &sp, wo);
             if (pf_max3(le) > 0.0f) {
-                const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
-                                    ? 1.0f
-                                    : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(s, &hit, &sp, last_point, last_normal));
+                const float w =
+                    delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
+                        ? 1.0f
+                        : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(
+                                                           s, &hit, &sp, last_point, last_normal));
                 radiance += beta * le * w;
             }
         }
@@ -209,8 +213,8 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         bsdf_pdf = bs.pdf;
 
         if (PF_TRANSMISSION && transmissive && dot(wi, sp.ng) * dot(wo, sp.ng) < 0.0f)
-            sigma_a = dot(wi, sp.ng) < 0.0f ? pf_vec3(s->materials[sp.material].sigma_a)
-                                            : (float3)(0.0f);
+            sigma_a =
+                dot(wi, sp.ng) < 0.0f ? pf_vec3(s->materials[sp.material].sigma_a) : (float3)(0.0f);
 
         if (depth + 1 >= fp->rr_start_depth) {
             const float survive = fmin(1.0f, pf_max3(beta) * fp->rr_scale);
@@ -240,7 +244,8 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
     if (!pf_trace(s, ray, &hit, false)) {
         out[0] = PF_INFINITY;
         out[1] = as_float(0xffffffffu);
-        for (int w = 2; w < 8; ++w) out[w] = 0.0f;
+        for (int w = 2; w < 8; ++w)
+            out[w] = 0.0f;
         out[8] = as_float(0u);
         out[9] = as_float(0xffffffffu);
         out[10] = out[11] = 0.0f;
@@ -269,21 +274,25 @@ PfRay pf_camera_ray(const PfFrameParams* fp, float px, float py) {
     const float sy = (1.0f - 2.0f * py / (float)fp->height) * fp->tan_half_fov;
     PfRay ray;
     ray.o = (float3)(c2w[3], c2w[7], c2w[11]);
-    ray.d = normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2], c2w[4] * sx + c2w[5] * sy - c2w[6],
-                               c2w[8] * sx + c2w[9] * sy - c2w[10]));
+    ray.d =
+        normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2], c2w[4] * sx + c2w[5] * sy - c2w[6],
+                           c2w[8] * sx + c2w[9] * sy - c2w[10]));
     ray.tmax = PF_INFINITY;
     return ray;
 }
 
-// One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples. out holds
-// (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite samples) per pixel;
-// first_hits, when fp.first_hits is set, the centre ray's first hit (12 words per pixel).
-#define PF_KERNEL_PARAM(name, type) __global const type* name,
+// One work item per pixel of rows [y0, y1): the box-filtered mean of spp samples, and
+// extra_samples[pixel] more when fp.extra_samples is set (FrameSpec::extra_samples, these rows
+// only). out holds (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite
+// samples) per pixel; first_hits, when fp.first_hits is set, the centre ray's first hit (12
+// words per pixel).
+#define PF_KERNEL_PARAM(name, type) __global const type *name,
 #define PF_SCENE_INIT(name, type) name,
-__kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
+__kernel void pf_render_rows(PfFrameParams fp,
+                             PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
                                  __global const PfSceneGlobals* globals,
                              __global float* out, __global uint* counters,
-                             __global float* first_hits) {
+                             __global float* first_hits, __global const uchar* extra_samples) {
     const int x = (int)get_global_id(0);
     const int row = (int)get_global_id(1);
     if (x >= fp.width || row >= fp.y1 - fp.y0) return;
@@ -295,7 +304,9 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
 #else
     float3 sum = (float3)(0.0f), carry = (float3)(0.0f);  // Kahan summation
 #endif
-    for (int k = fp.first_sample; k < fp.first_sample + fp.spp; ++k) {
+    const size_t o = (size_t)row * (size_t)fp.width + (size_t)x;
+    const int spp = max(fp.spp + (fp.extra_samples ? (int)extra_samples[o] : 0), 1);
+    for (int k = fp.first_sample; k < fp.first_sample + spp; ++k) {
         PfSampler sampler =
             pf_make_sampler((uint)x, (uint)y, fp.frame, (uint)k, fp.seed, globals->sobol_dim1);
         const float2 jitter = pf_next_2d(&sampler);
@@ -310,19 +321,18 @@ __kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
         sum = t;
 #endif
     }
-    const size_t o = (size_t)row * (size_t)fp.width + (size_t)x;
     if (fp.first_hits)
         pf_first_hit(&s, pf_camera_ray(&fp, (float)x + 0.5f, (float)y + 0.5f), first_hits + 12 * o,
                      &rays);
 #ifdef cl_khr_fp64
-    const double inv_spp = 1.0 / (double)max(fp.spp, 1);
+    const double inv_spp = 1.0 / (double)spp;
     out[3 * o + 0] = (float)(sum.x * inv_spp);
     out[3 * o + 1] = (float)(sum.y * inv_spp);
     out[3 * o + 2] = (float)(sum.z * inv_spp);
 #else
-    out[3 * o + 0] = sum.x / (float)max(fp.spp, 1);
-    out[3 * o + 1] = sum.y / (float)max(fp.spp, 1);
-    out[3 * o + 2] = sum.z / (float)max(fp.spp, 1);
+    out[3 * o + 0] = sum.x / (float)spp;
+    out[3 * o + 1] = sum.y / (float)spp;
+    out[3 * o + 2] = sum.z / (float)spp;
 #endif
     counters[2 * o] = rays;
     counters[2 * o + 1] = nonfinite;

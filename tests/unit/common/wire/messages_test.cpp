@@ -40,7 +40,7 @@ void expect_error(const Result<T>& r, const std::string& part) {
 }
 
 TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
-    const Assignment a{7, 7, 8, 24, 320, 180, 4, 99, 6, 0.5f, true, true};
+    const Assignment a{7, 7, 8, 24, 320, 180, 4, 99, 6, 0.5f, true, true, "extra map bytes"};
     const Assignment b = tracer_message<Assignment>(encode_assignment(a));
     EXPECT_EQ(b.frame, 7u);
     EXPECT_EQ(b.y0, 8u);
@@ -52,6 +52,9 @@ TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
     EXPECT_EQ(b.rr_scale, 0.5f);
     EXPECT_TRUE(b.first_hits);
     EXPECT_TRUE(b.light_tree);
+    EXPECT_EQ(b.extra_samples_zstd, "extra map bytes");
+    EXPECT_TRUE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8}))
+                    .extra_samples_zstd.empty());
     EXPECT_FALSE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).light_tree);
     EXPECT_FALSE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).first_hits);
     EXPECT_EQ(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).rr_scale, 1.0f)

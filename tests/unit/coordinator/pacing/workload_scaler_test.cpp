@@ -34,6 +34,25 @@ TEST(WorkloadScaler, LadderLowersSppThenRouletteThenResolution) {
     EXPECT_EQ(l.back().rr_scale, 0.5f);
 }
 
+// From 4 spp down to 1 no step costs more than 1.15x the next: a farm that cannot afford one
+// more whole sample spends what it can on extra samples (extra_samples.h) instead of idling.
+TEST(WorkloadScaler, ExtraSamplesSplitTheStepsBetweenWholeSamples) {
+    WorkloadScaler s({10.0, 4, 0.5f, 0.5f});
+    const auto& l = s.ladder();
+    int between_one_and_two = 0;
+    for (std::size_t i = 1; i < l.size() && l[i].rr_scale == 1.0f && l[i].resolution == 1.0f; ++i) {
+        EXPECT_LE(WorkloadScaler::work(l[i - 1]) / WorkloadScaler::work(l[i]), 1.15) << i;
+        EXPECT_LT(l[i].extra, 1.0f);
+        between_one_and_two += l[i].spp == 1 && l[i].extra > 0.0f;
+    }
+    EXPECT_GE(between_one_and_two, 6);
+    for (const QualityLevel& q : l) {
+        if (q.rr_scale < 1.0f || q.resolution < 1.0f) {
+            EXPECT_EQ(q.extra, 0.0f) << "whole samples first";
+        }
+    }
+}
+
 TEST(WorkloadScaler, HoldsTheTargetAsCapacityHalvesAndRecovers) {
     WorkloadScaler s({10.0, 8, 0.5f, 0.5f});  // 100 ms frames
     run(s, 20.0, 30);                         // 8 spp would take 160 ms
