@@ -212,6 +212,10 @@ void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
     app.add_option("--min-resolution", f.min_resolution,
                    "Workload scaling's floor on the render size over --width/--height")
         ->capture_default_str();
+    app.add_option("--render-budget", f.render_budget,
+                   "Share of the frame interval workload scaling fills with rendering: higher "
+                   "uses more of the tracers for quality, lower answers input sooner")
+        ->capture_default_str();
     app.add_option("--game", f.game,
                    "Game logic: auto (builtin:default's game there, else free-camera), "
                    "free-camera, default")

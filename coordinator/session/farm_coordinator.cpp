@@ -270,7 +270,8 @@ Status Farm::run(const std::atomic<bool>& stop) {
     if (Status s = listen(net); !s) return s;
     if (!o_.dump_frames.empty()) std::filesystem::create_directories(o_.dump_frames);
     if (!o_.fixed_spp)
-        scaler_.emplace(ScalerOptions{target_fps(), o_.spp, o_.min_rr_scale, o_.min_resolution});
+        scaler_.emplace(ScalerOptions{target_fps(), o_.spp, o_.min_rr_scale, o_.min_resolution,
+                                      o_.render_budget});
     Pacer pacer(target_fps());
     PreparedFrame next = prepare(0);
     const Timer clock;
@@ -339,6 +340,9 @@ Status check_options(const FarmOptions& o) {
     if (!(o.extra_samples >= 0.0 && o.extra_samples <= 1.0))
         return make_error(ErrorCode::invalid_argument, "--extra-samples {}: must be in [0, 1]",
                           o.extra_samples);
+    if (!(o.render_budget >= 0.3 && o.render_budget <= 1.0))
+        return make_error(ErrorCode::invalid_argument, "--render-budget {}: must be in [0.3, 1]",
+                          o.render_budget);
     if (o.extra_samples > 0.0 && !o.fixed_spp)
         return make_error(ErrorCode::invalid_argument,
                           "--extra-samples needs --fixed-spp (workload scaling chooses its own)");

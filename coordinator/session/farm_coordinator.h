@@ -53,6 +53,9 @@ struct FarmOptions {
     double extra_samples = 0.0;
     double target_fps = 0.0;                           // frame rate to hold; 0: `fps`
     float min_rr_scale = 0.5f, min_resolution = 0.5f;  // workload scaling's quality floor
+    // Share of the frame interval the frames may take (ScalerOptions::headroom): the rest is
+    // the loop's own work. Every millisecond of frame is a millisecond of input latency.
+    double render_budget = 0.9;
     std::string game = "auto";                         // coordinator/game/game.h
     int jpeg_quality = 90;
     // With converging: once every pixel holds this many frames of history and nothing changes,

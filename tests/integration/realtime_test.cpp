@@ -305,6 +305,13 @@ TEST(RealtimeCli, BadInputIsAOneLineError) {
     EXPECT_NE(test::read_file(farm.dir + "/d.log").find("--extra-samples needs --fixed-spp"),
               std::string::npos)
         << test::read_file(farm.dir + "/d.log");
+    Process budget({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0",
+                    "--render-budget", "1.5"},
+                   farm.dir + "/e.log");
+    EXPECT_EQ(budget.wait(10s), std::optional<int>(2));
+    EXPECT_NE(test::read_file(farm.dir + "/e.log").find("--render-budget 1.5: must be in"),
+              std::string::npos)
+        << test::read_file(farm.dir + "/e.log");
     unsetenv("DISPLAY");
     Process no_display({kClient, "--connect", "127.0.0.1:1"}, farm.dir + "/c.log");
     EXPECT_NE(no_display.wait(10s).value_or(0), 0);
