@@ -19,7 +19,9 @@
 // and levels (5), the luminance edge's sigma (8), the temporal anti-aliasing's blend factor
 // (DenoiseOptions::taa_alpha; 0: off), extra samples per pixel on average (0) and where they go
 // (`targeted`: where history is short, as the farm plans them from the history two frames
-// back, coordinator/pacing/extra_samples.h; `dither`: spread evenly).
+// back, coordinator/pacing/extra_samples.h; `dither`: spread evenly) and whether converging
+// weighs a pixel by its samples (`weighted`, as the farm does) or counts every frame as one
+// (`unweighted`).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -140,6 +142,7 @@ struct Args {
     coord::DenoiseOptions denoise;
     double extra = 0.0;
     bool targeted = true;
+    bool weigh = true;  // FrameView::sample_weights (as the farm does); false: every frame as one
 };
 
 // The cached reference of frame k, or a fresh render of it (written to the cache).
@@ -179,6 +182,11 @@ public:
         const FloatImage raw = render(backend_, shot, uint32_t(k), 1, 1, &hits, &extra);
         view.gbuffer =
             coord::gbuffer_from_first_hits(hits, kWidth, kHeight, view.camera, kWidth, kHeight);
+        if (a_.weigh && !extra.empty()) {  // converging weighs each pixel by its samples
+            view.sample_weights.resize(extra.size());
+            for (std::size_t i = 0; i < extra.size(); ++i)
+                view.sample_weights[i] = 1.0f + float(extra[i]);
+        }
         FloatImage converged = raw, denoised = raw;
         accumulator_.blend(converged, view);
         const Timer timer;
@@ -254,6 +262,7 @@ int main(int argc, char** argv) {
     if (argc > 11) a.denoise.taa_alpha = float(std::atof(argv[11]));
     if (argc > 12) a.extra = std::atof(argv[12]);
     if (argc > 13) a.targeted = std::string(argv[13]) != "dither";
+    if (argc > 14) a.weigh = std::string(argv[14]) != "unweighted";
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

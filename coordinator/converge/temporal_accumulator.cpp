@@ -287,6 +287,7 @@ void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
     const std::size_t n = std::size_t(image.width) * std::size_t(image.height);
     history_ = image;
     frames_.assign(n, 1.0f);
+    if (view.sample_weights.size() == n) frames_ = view.sample_weights;
     moments_.resize(n);
     sources_.assign(n, Vec2(kNoSource));
     for (std::size_t i = 0; i < n; ++i) {
@@ -330,6 +331,8 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
     next_frames_.resize(n), next_moments_.resize(n), sources_.resize(n);
     if (motion.camera_moved || !motion.moving.empty()) neighbourhood_.compute(image);
+    const std::vector<float>* weights =
+        view.sample_weights.size() == n ? &view.sample_weights : nullptr;
     const Totals totals = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h), Totals{},
         [&](const tbb::blocked_range<int>& rows, Totals t) {
@@ -337,6 +340,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                 for (int x = 0; x < w; ++x) {
                     const Rgb c = image.pixel(x, y);
                     const float l = luminance(c);
+                    const float s = weights ? (*weights)[std::size_t(y) * w + x] : 1.0f;
                     Vec2& m = next_moments_[std::size_t(y) * w + x];
                     m = Vec2(l, l * l);
                     const Reprojection r = reproject(motion, project_prev, camera_ray, prev, view,
@@ -344,21 +348,21 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     sources_[std::size_t(y) * w + x] = r.object_moves ? Vec2(kNoSource) : r.source;
                     if (!r.valid) {
                         next_history_.set_pixel(x, y, c);
-                        next_frames_[std::size_t(y) * w + x] = 1.0f;
-                        t.f += 1.0, t.frames += 1.0;
+                        next_frames_[std::size_t(y) * w + x] = s;
+                        t.f += 1.0, t.frames += s;
                         continue;
                     }
                     Rgb history = history_.pixel(r.hx, r.hy);
-                    float k = frames_[std::size_t(r.hy) * w + r.hx] + 1.0f;
+                    float k = frames_[std::size_t(r.hy) * w + r.hx] + s;
                     if (motion.camera_moved || r.object_moves) {
                         const std::size_t i = std::size_t(y) * w + x;
                         history = clamp_history(history, neighbourhood_, i,
                                                 moments_[std::size_t(r.hy) * w + r.hx],
                                                 o_.clamp_sigmas, !view.gbuffer.hit(i));
                         const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
-                        k = std::min(k, 1.0f / floor);
+                        k = std::min(k, s / floor);
                     }
-                    const float f = 1.0f / k;
+                    const float f = s / k;
                     next_history_.set_pixel(x, y, history + f * (c - history));
                     const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
                     m = mh + f * (m - mh);

@@ -1,9 +1,10 @@
 // Converging (Brigade §4.5) with reprojection: C = (1 - f) H + f C_new per pixel, where H is
 // the previous output carried to this frame by the camera's (and each instance's) motion.
 // A pixel whose surface stayed still keeps a true running mean (f = 1/k for its k-th frame,
-// error falls as 1/sqrt(k)); history of a moving pixel is clamped to the new frame's
-// neighbourhood and f is floored so moving objects do not smear; history whose surface is not
-// the one seen now (disocclusion, off-screen, another instance, a depth jump) is dropped.
+// error falls as 1/sqrt(k); a frame that gave the pixel s times the frame's spp counts as s
+// frames: f = s / k, k counting such frames); history of a moving pixel is clamped to the new
+// frame's neighbourhood and f is floored so moving objects do not smear; history whose surface is
+// not the one seen now (disocclusion, off-screen, another instance, a depth jump) is dropped.
 #pragma once
 
 #include <map>
@@ -36,6 +37,10 @@ struct FrameView {
     SurfaceMap surfaces;
     // Lighting, materials or the environment changed: no history is valid (a cut).
     bool cut = false;
+    // Samples each pixel took this frame over the frame's spp (more where workload scaling
+    // gave extra samples: coordinator/pacing/extra_samples.h), at the display resolution;
+    // empty: 1 everywhere. The running mean weighs each frame by them.
+    std::vector<float> sample_weights;
 };
 
 struct ConvergeOptions {
@@ -61,7 +66,8 @@ public:
     // Blends `image` (this frame's new samples, display resolution) with the history in place.
     ConvergeStats blend(FloatImage& image, FrameView view);
     void reset();  // a cut: the next frame starts from its own samples only
-    // Frames of history per pixel (1: this frame's samples alone).
+    // Frames of history per pixel, in frames of the frame's spp (1: this frame's samples alone,
+    // more when extra samples gave it more).
     const std::vector<float>& history_frames() const { return frames_; }
     // Per pixel, the running means of the blended image's luminance and of its square (SVGF's
     // first two moments), blended with the same factors: their difference is the variance of

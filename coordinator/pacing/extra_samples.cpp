@@ -7,24 +7,42 @@
 namespace pathfarm::coord {
 namespace {
 
-// The least history within kReach pixels of each pixel (a separable min filter).
-std::vector<float> youngest_nearby(const std::vector<float>& history, int width, int height) {
+// The extra samples each pixel wants for its own history: enough to make kWantedFrames, at most
+// kMaxTargeted.
+std::vector<uint8_t> own_wants(const std::vector<float>& history) {
+    std::vector<uint8_t> want(history.size());
+    for (std::size_t i = 0; i < history.size(); ++i) {
+        const float w = std::floor(ExtraSamplePlan::kWantedFrames - history[i]);
+        want[i] = uint8_t(std::clamp(w, 0.0f, float(ExtraSamplePlan::kMaxTargeted)));
+    }
+    return want;
+}
+
+// The most any pixel within kReach wants (a separable max filter over bytes: the plan runs on
+// the frame loop's critical path, so rows at a time, which the compiler vectorises).
+std::vector<uint8_t> spread_wants(const std::vector<uint8_t>& want, int width, int height) {
     constexpr int r = ExtraSamplePlan::kReach;
-    std::vector<float> rows(history.size()), out(history.size());
-    for (int y = 0; y < height; ++y)
+    const auto w = std::size_t(width);
+    std::vector<uint8_t> cols(want.size()), out(want.size());
+    for (int y = 0; y < height; ++y) {
+        uint8_t* dst = &cols[std::size_t(y) * w];
+        std::copy_n(&want[std::size_t(y) * w], w, dst);
+        for (int d = std::max(0, y - r); d <= std::min(height - 1, y + r); ++d) {
+            const uint8_t* src = &want[std::size_t(d) * w];
+            for (std::size_t x = 0; x < w; ++x)
+                dst[x] = std::max(dst[x], src[x]);
+        }
+    }
+    for (int y = 0; y < height; ++y) {
+        const uint8_t* src = &cols[std::size_t(y) * w];
+        uint8_t* dst = &out[std::size_t(y) * w];
         for (int x = 0; x < width; ++x) {
-            float m = history[std::size_t(y) * width + x];
+            uint8_t m = 0;
             for (int d = std::max(0, x - r); d <= std::min(width - 1, x + r); ++d)
-                m = std::min(m, history[std::size_t(y) * width + d]);
-            rows[std::size_t(y) * width + x] = m;
+                m = std::max(m, src[d]);
+            dst[x] = m;
         }
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            float m = rows[std::size_t(y) * width + x];
-            for (int d = std::max(0, y - r); d <= std::min(height - 1, y + r); ++d)
-                m = std::min(m, rows[std::size_t(d) * width + x]);
-            out[std::size_t(y) * width + x] = m;
-        }
+    }
     return out;
 }
 
@@ -39,31 +57,36 @@ int bayer_rank(int x, int y) {
 
 // The dither's rank of each pixel this frame: the matrix shifted by a step that visits every
 // offset, so over 64 frames every pixel takes its turn.
-std::vector<int> dither_ranks(int width, int height, uint64_t frame) {
+std::vector<uint8_t> dither_ranks(int width, int height, uint64_t frame) {
     const int ox = int((frame * 3) % 8), oy = int((frame * 5 + frame / 8) % 8);
-    std::vector<int> ranks(std::size_t(width) * height);
+    uint8_t shifted[8][8];
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            shifted[y][x] = uint8_t(bayer_rank((x + ox) & 7, (y + oy) & 7));
+    std::vector<uint8_t> ranks(std::size_t(width) * height);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
-            ranks[std::size_t(y) * width + x] = bayer_rank((x + ox) & 7, (y + oy) & 7);
+            ranks[std::size_t(y) * width + x] = shifted[y & 7][x & 7];
     return ranks;
 }
 
-// Gives young pixels what they want, round by round and youngest first (ties by dither rank,
-// so an even cut of a uniformly young frame is spread over it). Returns what is left.
-int64_t serve_young(const std::vector<float>& young, const std::vector<int>& ranks, int64_t budget,
-                    std::vector<uint8_t>& extra) {
-    std::vector<uint8_t> want(young.size(), 0);
-    std::vector<uint32_t> order;
-    for (std::size_t i = 0; i < young.size(); ++i) {
-        const float w = std::floor(ExtraSamplePlan::kWantedFrames - young[i]);
-        want[i] = uint8_t(std::clamp(int(w), 0, ExtraSamplePlan::kMaxTargeted));
-        if (want[i] > 0) order.push_back(uint32_t(i));
-    }
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-        if (young[a] != young[b]) return young[a] < young[b];
-        return ranks[a] != ranks[b] ? ranks[a] < ranks[b] : a < b;
-    });
-    for (int round = 1; round <= ExtraSamplePlan::kMaxTargeted && budget > 0; ++round)
+// Gives young pixels what they want, round by round, those that want most first and, among
+// them, in dither order (so an even cut of a uniformly young frame is spread over it). The
+// order is a counting sort by (want, rank): a comparison sort of a moving camera's young
+// pixels took 3-4 ms on the frame loop's critical path. Returns what is left of the budget.
+int64_t serve_young(const std::vector<uint8_t>& want, const std::vector<uint8_t>& ranks,
+                    int64_t budget, std::vector<uint8_t>& extra) {
+    constexpr int kMax = ExtraSamplePlan::kMaxTargeted, kBuckets = kMax * 64;
+    std::vector<uint32_t> start(kBuckets + 1, 0);
+    const auto bucket = [&](std::size_t i) { return (kMax - want[i]) * 64 + ranks[i]; };
+    for (std::size_t i = 0; i < want.size(); ++i)
+        if (want[i] > 0) ++start[std::size_t(bucket(i)) + 1];
+    for (int b = 0; b < kBuckets; ++b)
+        start[b + 1] += start[b];
+    std::vector<uint32_t> order(start[kBuckets]);
+    for (std::size_t i = 0; i < want.size(); ++i)
+        if (want[i] > 0) order[start[bucket(i)]++] = uint32_t(i);
+    for (int round = 1; round <= kMax && budget > 0; ++round)
         for (std::size_t k = 0; k < order.size() && budget > 0; ++k)
             if (want[order[k]] >= round) {
                 ++extra[order[k]];
@@ -80,9 +103,10 @@ std::vector<uint8_t> plan_extra_samples(const std::vector<float>& history_frames
     std::vector<uint8_t> extra(pixels, 0);
     if (pixels == 0 || !(budget > 0.0)) return extra;
     int64_t left = std::llround(std::min(budget, 1.0) * double(pixels));
-    const std::vector<int> ranks = dither_ranks(width, height, frame);
+    const std::vector<uint8_t> ranks = dither_ranks(width, height, frame);
     if (history_frames.size() == pixels)
-        left = serve_young(youngest_nearby(history_frames, width, height), ranks, left, extra);
+        left =
+            serve_young(spread_wants(own_wants(history_frames), width, height), ranks, left, extra);
     // The dither's threshold: the largest that spends no more than what is left.
     const int threshold = int(std::min<int64_t>(64, left * 64 / int64_t(pixels)));
     for (std::size_t i = 0; i < pixels; ++i)

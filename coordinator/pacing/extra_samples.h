@@ -8,8 +8,9 @@
 // is the converging accumulator's as the last shown frame left it, spread to the pixels within
 // kReach of each pixel (the map is used one or two frames later, and moving edges move). Each
 // young pixel wants enough samples that its history plus them makes kWantedFrames; the budget
-// goes round by round, one more sample to every pixel still wanting one, youngest first, so
-// all young pixels get their second sample before any gets its third. What the young pixels do
+// goes round by round, one more sample to every pixel still wanting one, those that want most
+// first (ties in dither order), so all young pixels get their second sample before any gets
+// its third. What the young pixels do
 // not take is spread over the whole frame by an ordered dither that moves every frame.
 //
 // Choosing a pixel's sample count from earlier frames does not bias it: the count is fixed

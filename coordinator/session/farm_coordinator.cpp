@@ -210,13 +210,15 @@ void Farm::plan_extra_samples(FrameWork& w, double budget) {
     std::vector<float> history;
     if (w.frame >= 2) history = display_.history_after(w.frame - 2);
     if (w.width != o_.width || w.height != o_.height) history.clear();
-    const std::vector<uint8_t> map =
+    std::vector<uint8_t> map =
         coord::plan_extra_samples(history, w.width, w.height, budget, w.frame);
     std::size_t total = 0;
     for (const uint8_t e : map)
         total += e;
     w.extra = double(total) / double(map.size());
-    if (total > 0) w.extra_samples_zstd = encode_extra_samples(map);
+    if (total == 0) return;
+    w.extra_samples_zstd = encode_extra_samples(map);
+    w.extra_map = std::make_shared<const std::vector<uint8_t>>(std::move(map));
 }
 
 void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {

@@ -91,6 +91,11 @@ void FrameDisplay::show(DisplayJob& job) {
     if ((o_.converge || o_.denoise) && job.rendered) {
         job.view.gbuffer = gbuffer_from_first_hits(job.outcome.first_hits, w.width, w.height,
                                                    job.view.camera, o_.width, o_.height);
+        if (w.extra_map && w.width == o_.width && w.height == o_.height) {
+            job.view.sample_weights.resize(w.extra_map->size());
+            for (std::size_t i = 0; i < w.extra_map->size(); ++i)
+                job.view.sample_weights[i] = float(w.spp + (*w.extra_map)[i]) / float(w.spp);
+        }
         if (o_.denoise) {
             const Timer denoise_timer;
             converged = denoiser_.filter(image, std::move(job.view), o_.converge);

@@ -34,9 +34,11 @@ struct FrameWork {
     int max_depth = 8;
     bool first_hits = false;  // the tiles carry first hits (FrameOutcome::first_hits)
     bool light_tree = false;  // IntegratorSettings::light_selection is tree
-    // Samples beyond spp (coordinator/pacing/extra_samples.h): their mean per pixel, and the
-    // map in its wire form (common/film/extra_samples_codec.h; empty: none).
+    // Samples beyond spp (coordinator/pacing/extra_samples.h): their mean per pixel, the map
+    // (converging weighs each pixel by it) and its wire form (common/film/
+    // extra_samples_codec.h); null and empty: none.
     double extra = 0.0;
+    std::shared_ptr<const std::vector<uint8_t>> extra_map{};
     std::string extra_samples_zstd{};
 };
 

@@ -288,30 +288,22 @@ TEST(RealtimeFarm, HostileClientInputLeavesFramesFinite) {
 
 TEST(RealtimeCli, BadInputIsAOneLineError) {
     Farm farm;
-    Process cornell(
-        {kCoordinator, "--scene", "builtin:cornell", "--tracer-port", "0", "--game", "default"},
-        farm.dir + "/a.log");
-    EXPECT_EQ(cornell.wait(10s), std::optional<int>(2));
-    EXPECT_NE(test::read_file(farm.dir + "/a.log").find("not builtin:default"), std::string::npos)
-        << test::read_file(farm.dir + "/a.log");
-    Process quality(
-        {kCoordinator, "--scene", "builtin:default", "--tracer-port", "0", "--jpeg-quality", "0"},
-        farm.dir + "/b.log");
-    EXPECT_EQ(quality.wait(10s), std::optional<int>(2));
-    Process extra({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0",
-                   "--extra-samples", "0.5"},
-                  farm.dir + "/d.log");
-    EXPECT_EQ(extra.wait(10s), std::optional<int>(2));
-    EXPECT_NE(test::read_file(farm.dir + "/d.log").find("--extra-samples needs --fixed-spp"),
-              std::string::npos)
-        << test::read_file(farm.dir + "/d.log");
-    Process budget({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0",
-                    "--render-budget", "1.5"},
-                   farm.dir + "/e.log");
-    EXPECT_EQ(budget.wait(10s), std::optional<int>(2));
-    EXPECT_NE(test::read_file(farm.dir + "/e.log").find("--render-budget 1.5: must be in"),
-              std::string::npos)
-        << test::read_file(farm.dir + "/e.log");
+    // Each: arguments after --scene and --tracer-port, and what the one-line error must say.
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"builtin:cornell", "--game", "default"}, "not builtin:default"},
+        {{"builtin:default", "--jpeg-quality", "0"}, "--jpeg-quality: Value 0 not in range"},
+        {{"builtin:default", "--extra-samples", "0.5"}, "--extra-samples needs --fixed-spp"},
+        {{"builtin:default", "--render-budget", "1.5"}, "--render-budget 1.5: must be in"},
+    };
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        std::vector<std::string> args{kCoordinator, "--tracer-port", "0", "--scene"};
+        args.insert(args.end(), cases[i].first.begin(), cases[i].first.end());
+        const std::string log = farm.dir + "/case" + std::to_string(i) + ".log";
+        Process coordinator(args, log);
+        EXPECT_EQ(coordinator.wait(10s), std::optional<int>(2)) << cases[i].second;
+        EXPECT_NE(test::read_file(log).find(cases[i].second), std::string::npos)
+            << test::read_file(log);
+    }
     unsetenv("DISPLAY");
     Process no_display({kClient, "--connect", "127.0.0.1:1"}, farm.dir + "/c.log");
     EXPECT_NE(no_display.wait(10s).value_or(0), 0);
