@@ -314,6 +314,15 @@ void TemporalAccumulator::keep(FrameView view) {
     previous_ = std::move(view);
 }
 
+namespace {
+
+// The view's per-pixel sample weights when it has one for each of n pixels.
+const std::vector<float>* sample_weights(const FrameView& view, std::size_t n) {
+    return view.sample_weights.size() == n ? &view.sample_weights : nullptr;
+}
+
+}  // namespace
+
 ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     const int w = image.width, h = image.height;
     const std::size_t n = std::size_t(w) * h;
@@ -331,16 +340,14 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
     if (next_history_.width != w || next_history_.height != h) next_history_ = FloatImage(w, h);
     next_frames_.resize(n), next_moments_.resize(n), sources_.resize(n);
     if (motion.camera_moved || !motion.moving.empty()) neighbourhood_.compute(image);
-    const std::vector<float>* weights =
-        view.sample_weights.size() == n ? &view.sample_weights : nullptr;
+    const std::vector<float>* weights = sample_weights(view, n);
     const Totals totals = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h), Totals{},
         [&](const tbb::blocked_range<int>& rows, Totals t) {
             for (int y = rows.begin(); y < rows.end(); ++y)
                 for (int x = 0; x < w; ++x) {
                     const Rgb c = image.pixel(x, y);
-                    const float l = luminance(c);
-                    const float s = weights ? (*weights)[std::size_t(y) * w + x] : 1.0f;
+                    const float l = luminance(c), s = weights ? (*weights)[y * w + x] : 1.0f;
                     Vec2& m = next_moments_[std::size_t(y) * w + x];
                     m = Vec2(l, l * l);
                     const Reprojection r = reproject(motion, project_prev, camera_ray, prev, view,

@@ -56,7 +56,7 @@ struct FarmOptions {
     // Share of the frame interval the frames may take (ScalerOptions::headroom): the rest is
     // the loop's own work. Every millisecond of frame is a millisecond of input latency.
     double render_budget = 0.9;
-    std::string game = "auto";                         // coordinator/game/game.h
+    std::string game = "auto";  // coordinator/game/game.h
     int jpeg_quality = 90;
     // With converging: once every pixel holds this many frames of history and nothing changes,
     // frames render nothing new (the converged image is sent again). 0: always render.
