@@ -182,11 +182,7 @@ public:
         const FloatImage raw = render(backend_, shot, uint32_t(k), 1, 1, &hits, &extra);
         view.gbuffer =
             coord::gbuffer_from_first_hits(hits, kWidth, kHeight, view.camera, kWidth, kHeight);
-        if (a_.weigh && !extra.empty()) {  // converging weighs each pixel by its samples
-            view.sample_weights.resize(extra.size());
-            for (std::size_t i = 0; i < extra.size(); ++i)
-                view.sample_weights[i] = 1.0f + float(extra[i]);
-        }
+        if (a_.weigh) view.sample_weights = coord::sample_weights(extra, 1);
         FloatImage converged = raw, denoised = raw;
         accumulator_.blend(converged, view);
         const Timer timer;

@@ -114,4 +114,11 @@ std::vector<uint8_t> plan_extra_samples(const std::vector<float>& history_frames
     return extra;
 }
 
+std::vector<float> sample_weights(const std::vector<uint8_t>& extra, int spp) {
+    std::vector<float> weights(extra.size());
+    for (std::size_t i = 0; i < extra.size(); ++i)
+        weights[i] = float(spp + extra[i]) / float(spp);
+    return weights;
+}
+
 }  // namespace pathfarm::coord

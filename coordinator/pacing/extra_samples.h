@@ -10,8 +10,8 @@
 // young pixel wants enough samples that its history plus them makes kWantedFrames; the budget
 // goes round by round, one more sample to every pixel still wanting one, those that want most
 // first (ties in dither order), so all young pixels get their second sample before any gets
-// its third. What the young pixels do
-// not take is spread over the whole frame by an ordered dither that moves every frame.
+// its third. What the young pixels do not take is spread over the whole frame by an ordered
+// dither that moves every frame.
 //
 // Choosing a pixel's sample count from earlier frames does not bias it: the count is fixed
 // before any of this frame's random numbers are drawn.
@@ -34,5 +34,8 @@ struct ExtraSamplePlan {
 // there is none, or it was at another size: then the dither alone). `frame` moves the dither.
 std::vector<uint8_t> plan_extra_samples(const std::vector<float>& history_frames, int width,
                                         int height, double budget, uint64_t frame);
+
+// Each pixel's samples over `spp` under the plan `extra` (FrameView::sample_weights).
+std::vector<float> sample_weights(const std::vector<uint8_t>& extra, int spp);
 
 }  // namespace pathfarm::coord

@@ -190,16 +190,16 @@ FrameWork Farm::next_work(uint64_t frame) {
     w.max_depth = o_.max_depth;
     w.first_hits = o_.converge || o_.denoise;
     w.light_tree = o_.light_tree;
-    if (!scaler_) {
-        plan_extra_samples(w, o_.extra_samples);
-        return w;
+    double extra = o_.extra_samples;
+    if (scaler_) {
+        const QualityLevel& l = scaler_->level();
+        w.width = std::max(8, int(std::lround(o_.width * l.resolution)));
+        w.height = std::max(8, int(std::lround(o_.height * l.resolution)));
+        w.spp = l.spp;
+        w.rr_scale = l.rr_scale;
+        extra = l.extra;
     }
-    const QualityLevel& l = scaler_->level();
-    w.width = std::max(8, int(std::lround(o_.width * l.resolution)));
-    w.height = std::max(8, int(std::lround(o_.height * l.resolution)));
-    w.spp = l.spp;
-    w.rr_scale = l.rr_scale;
-    plan_extra_samples(w, l.extra);
+    plan_extra_samples(w, extra);
     return w;
 }
 

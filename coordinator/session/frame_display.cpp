@@ -5,6 +5,7 @@
 
 #include "common/film/image_io.h"
 #include "common/film/resample.h"
+#include "coordinator/pacing/extra_samples.h"
 
 namespace pathfarm::coord {
 
@@ -91,11 +92,8 @@ void FrameDisplay::show(DisplayJob& job) {
     if ((o_.converge || o_.denoise) && job.rendered) {
         job.view.gbuffer = gbuffer_from_first_hits(job.outcome.first_hits, w.width, w.height,
                                                    job.view.camera, o_.width, o_.height);
-        if (w.extra_map && w.width == o_.width && w.height == o_.height) {
-            job.view.sample_weights.resize(w.extra_map->size());
-            for (std::size_t i = 0; i < w.extra_map->size(); ++i)
-                job.view.sample_weights[i] = float(w.spp + (*w.extra_map)[i]) / float(w.spp);
-        }
+        if (w.extra_map && w.width == o_.width && w.height == o_.height)
+            job.view.sample_weights = sample_weights(*w.extra_map, w.spp);
         if (o_.denoise) {
             const Timer denoise_timer;
             converged = denoiser_.filter(image, std::move(job.view), o_.converge);

@@ -112,8 +112,7 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfShadi
     const int m = clamp(fp->light_candidates, 1, PF_MAX_LIGHT_CANDIDATES);
     if (m == 1) {
         PfLightCandidate c;
-        if (!pf_light_candidate(s, fp, x, u_select.x, u_light, &c) ||
-            !pf_unoccluded(s, x, &c, rays))
+        if (!pf_light_candidate(s, fp, x, u_select.x, u_light, &c) || !pf_unoccluded(s, x, &c, rays))
             return (float3)(0.0f);
         return c.contribution;
     }
@@ -161,10 +160,9 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (!found) {
             if (PF_ENVIRONMENT && s->globals->has_environment && count_emission) {
                 const float3 le = pf_environment_radiance(s->globals, ray.d);
-                const float w =
-                    delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
-                        ? 1.0f
-                        : pf_power_heuristic(bsdf_pdf, pf_environment_pdf(s->globals, ray.d));
+                const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
+                                    ? 1.0f
+                                    : pf_power_heuristic(bsdf_pdf, pf_environment_pdf(s->globals, ray.d));
                 radiance += beta * le * w;
             }
             break;
@@ -176,11 +174,9 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         if (PF_EMITTERS && count_emission) {
             const float3 le = pf_emitted(s, &sp, wo);
             if (pf_max3(le) > 0.0f) {
-                const float w =
-                    delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
-                        ? 1.0f
-                        : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(
-                                                           s, &hit, &sp, last_point, last_normal));
+                const float w = delta_bounce || fp->strategy == PF_STRATEGY_BSDF_ONLY
+                                    ? 1.0f
+                                    : pf_power_heuristic(bsdf_pdf, pf_light_pdf_solid_angle(s, &hit, &sp, last_point, last_normal));
                 radiance += beta * le * w;
             }
         }
@@ -213,8 +209,8 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         bsdf_pdf = bs.pdf;
 
         if (PF_TRANSMISSION && transmissive && dot(wi, sp.ng) * dot(wo, sp.ng) < 0.0f)
-            sigma_a =
-                dot(wi, sp.ng) < 0.0f ? pf_vec3(s->materials[sp.material].sigma_a) : (float3)(0.0f);
+            sigma_a = dot(wi, sp.ng) < 0.0f ? pf_vec3(s->materials[sp.material].sigma_a)
+                                            : (float3)(0.0f);
 
         if (depth + 1 >= fp->rr_start_depth) {
             const float survive = fmin(1.0f, pf_max3(beta) * fp->rr_scale);
@@ -244,8 +240,7 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
     if (!pf_trace(s, ray, &hit, false)) {
         out[0] = PF_INFINITY;
         out[1] = as_float(0xffffffffu);
-        for (int w = 2; w < 8; ++w)
-            out[w] = 0.0f;
+        for (int w = 2; w < 8; ++w) out[w] = 0.0f;
         out[8] = as_float(0u);
         out[9] = as_float(0xffffffffu);
         out[10] = out[11] = 0.0f;
@@ -274,9 +269,8 @@ PfRay pf_camera_ray(const PfFrameParams* fp, float px, float py) {
     const float sy = (1.0f - 2.0f * py / (float)fp->height) * fp->tan_half_fov;
     PfRay ray;
     ray.o = (float3)(c2w[3], c2w[7], c2w[11]);
-    ray.d =
-        normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2], c2w[4] * sx + c2w[5] * sy - c2w[6],
-                           c2w[8] * sx + c2w[9] * sy - c2w[10]));
+    ray.d = normalize((float3)(c2w[0] * sx + c2w[1] * sy - c2w[2], c2w[4] * sx + c2w[5] * sy - c2w[6],
+                               c2w[8] * sx + c2w[9] * sy - c2w[10]));
     ray.tmax = PF_INFINITY;
     return ray;
 }
@@ -286,13 +280,13 @@ PfRay pf_camera_ray(const PfFrameParams* fp, float px, float py) {
 // only). out holds (y1 - y0) rows of width RGB floats; counters holds (rays, non-finite
 // samples) per pixel; first_hits, when fp.first_hits is set, the centre ray's first hit (12
 // words per pixel).
-#define PF_KERNEL_PARAM(name, type) __global const type *name,
+#define PF_KERNEL_PARAM(name, type) __global const type* name,
 #define PF_SCENE_INIT(name, type) name,
-__kernel void pf_render_rows(PfFrameParams fp,
-                             PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
+__kernel void pf_render_rows(PfFrameParams fp, PF_SCENE_ARRAYS(PF_KERNEL_PARAM)
                                  __global const PfSceneGlobals* globals,
                              __global float* out, __global uint* counters,
-                             __global float* first_hits, __global const uchar* extra_samples) {
+                             __global float* first_hits,
+                             __global const uchar* extra_samples) {
     const int x = (int)get_global_id(0);
     const int row = (int)get_global_id(1);
     if (x >= fp.width || row >= fp.y1 - fp.y0) return;
