@@ -6,7 +6,8 @@
 // Prints CSV rows `scenario,frames,triangles,update_median_ms,update_p95_ms,rebuild_median_ms,
 // rebuild_p95_ms,update_max_ms,ratio` (ratio = rebuild median / update median; the maximum
 // shows the frame where the camera crossed into another recentring cell). Arguments: scenes
-// folder, frames, log level (debug prints the Embree part of each update).
+// folder, frames, log level (debug prints the Embree part of each update), and optionally one
+// scenario's name (for a profiler).
 #include <algorithm>
 #include <cstdio>
 #include <functional>
@@ -43,7 +44,10 @@ std::unique_ptr<tracer::RenderBackend> embree() {
     return std::move(b.value());
 }
 
+const char* g_only = nullptr;  // the one scenario to run, or all
+
 void run(const char* name, const Sequence& sequence, int frames) {
+    if (g_only && std::string(g_only) != name) return;
     auto updated = embree(), rebuilt = embree();
     tracer::SceneStepper steps;
     SceneModel whole;
@@ -137,6 +141,7 @@ int main(int argc, char** argv) {
     init_logging("tracer-update-bench", argc > 3 ? argv[3] : "warn");  // debug: Embree's share
     const std::string scenes = argc > 1 ? argv[1] : "../shared/scenes";
     const int frames = argc > 2 ? std::max(4, std::atoi(argv[2])) : 40;
+    if (argc > 4) g_only = argv[4];
     std::printf(
         "scenario,frames,triangles,update_median_ms,update_p95_ms,rebuild_median_ms,"
         "rebuild_p95_ms,update_max_ms,ratio\n");

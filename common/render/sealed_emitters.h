@@ -7,8 +7,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
+#include "common/render/closed_surfaces.h"
 #include "common/scene/scene_model.h"
 
 namespace pathfarm {
@@ -34,34 +36,67 @@ public:
     // analysis is kept and culled() takes viewers in the moved scene's coordinates. Costs a
     // pass over the meshes' bytes instead of a new analysis.
     bool adopt_translated(const SceneModel& scene);
-    // Whether `scene` is the analysed scene with only emitters moved (occluders, geometry and
-    // materials as they were, no translation adopted); if so the closed surfaces are kept and
-    // only the moved emitters' sides are found again (a turning ring of lights: a fraction of
-    // a new analysis).
-    bool adopt_moved_emitters(const SceneModel& scene);
+    // Whether `scene` is the analysed scene with some instances moved (geometry and materials
+    // as they were, no translation adopted), where every moved occluder shares no welded
+    // vertex with another instance's occluders, before and after (a rolling ball, a swinging
+    // door, a turning ring of lights). If so the closed surfaces of the instances that did not
+    // move are kept, the moved occluders' own are found again, and every emitter's side of
+    // them; the moved emitters' sides of the others. The result equals a new analysis of
+    // `scene`; a fraction of its cost. On false the analysis must be replaced.
+    bool adopt_moved_instances(const SceneModel& scene);
     // Either of the two (one pass over the geometry).
     bool adopt(const SceneModel& scene);
 
 private:
     enum class Side : uint8_t { inside, outside, unknown };
+    static constexpr uint32_t kShared = UINT32_MAX;  // a vertex of several instances' occluders
     struct Enclosure {
         std::vector<Vec3> triangles;  // three world positions per triangle
         Bounds3f bounds;
         std::vector<std::pair<uint32_t, Side>> emitters;  // emissive instance, its side
+        uint32_t owner = kShared;  // the instance all its triangles belong to, or kShared
     };
     static Side side_of(const Enclosure& e, const Vec3& p);
-    // The closed surfaces among the occluders' world triangles (three points each).
-    void find_enclosures(const std::vector<Vec3>& tris);
+    // Glass, emitters and cut-out or blended surfaces (alpha) let light through.
+    static bool occludes(const Material& m);
+    const Material& material_of(const SceneModel& scene, std::size_t instance) const;
+    // Which instance each welded vertex of the occluders belongs to (`instance_of` per
+    // triangle), kept in vertex_owner_, own_vertices_ and isolated_.
+    void note_owners(const Welding& welding, const std::vector<uint32_t>& instance_of);
+    // Enclosures from closed `components` of `tris` (three world points per triangle, the
+    // instance of each beside), with every emitter's side of them.
+    void add_enclosures(const SceneModel& scene, const std::vector<Vec3>& tris,
+                        const std::vector<uint32_t>& instance_of,
+                        const std::vector<std::vector<uint32_t>>& components);
     Side emitter_side(const Enclosure& e, const Instance& inst, const Mesh& mesh) const;
 
     static uint64_t geometry_hash(const SceneModel& scene);
     bool placed_as_analysed(const SceneModel& scene, std::size_t instance) const;
-    // adopt_translated and adopt_moved_emitters once the geometry is known to be the same.
+    // adopt_translated and adopt_moved_instances once the geometry is known to be the same.
     bool translated(const SceneModel& scene);
-    bool moved_emitters(const SceneModel& scene);
+    bool moved_instances(const SceneModel& scene);
+    // Welds moved occluder `instance` alone where `scene` places it (false if it shares a
+    // vertex with another instance) and adds its enclosures.
+    bool moved_occluder(const SceneModel& scene, uint32_t instance);
 
     std::size_t instance_count_ = 0;
     std::vector<Enclosure> enclosures_;
+    // Every occluder vertex of the analysed scene -> the instance it belongs to (kShared if
+    // several); per instance, its vertices when they are its own alone (else empty).
+    std::unordered_map<WeldKey, uint32_t, WeldKeyHash> vertex_owner_;
+    std::vector<std::vector<WeldKey>> own_vertices_;
+    std::vector<bool> isolated_;  // an occluder whose vertices are its own alone
+    // A moved occluder's mesh welded in its own space. Placed in the world, vertices it keeps
+    // apart may meet (rounding, such as a sphere's pole); its closed components are kept for
+    // the last such pattern, which a rigid motion rarely changes.
+    struct MeshSurfaces {
+        Welding welding;
+        std::vector<uint32_t> merged;  // per vertex id: the id it met in the world (or itself)
+        std::vector<std::vector<uint32_t>> closed;  // for `merged`
+        bool fresh = true;
+    };
+    std::unordered_map<uint32_t, MeshSurfaces> mesh_surfaces_;  // by instance, once moved
+    bool skipped_ = false;  // over kMaxTriangles: nothing is ever culled
     // What adopt_translated() compares: geometry and materials, the instances' linear parts,
     // and their translations (in double, as the analysed scene had them).
     uint64_t geometry_hash_ = 0;

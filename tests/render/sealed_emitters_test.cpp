@@ -144,7 +144,7 @@ TEST(SealedEmitters, KeepsTheClosedSurfacesWhenOnlyEmittersMove) {
     moved.instances[lamp].transform =
         glm::translate(Mat4(1.0f), Vec3(5.0f, 0.0f, 0.0f)) * moved.instances[lamp].transform;
     SealedEmitters sealed(scene);
-    ASSERT_TRUE(sealed.adopt_moved_emitters(moved));
+    ASSERT_TRUE(sealed.adopt_moved_instances(moved));
     const SealedEmitters fresh(moved);
     for (const Vec3& viewer : {eye(scene), Vec3(5.0f, 1.5f, 0.0f), Vec3(2.5f, 1.5f, 0.0f)})
         EXPECT_EQ(sealed.culled(viewer), fresh.culled(viewer));
@@ -154,13 +154,13 @@ TEST(SealedEmitters, KeepsTheClosedSurfacesWhenOnlyEmittersMove) {
     SceneModel wall_moved = moved;
     wall_moved.instances[occluder].transform = glm::translate(Mat4(1.0f), Vec3(0.0f, 0.5f, 0.0f)) *
                                                wall_moved.instances[occluder].transform;
-    EXPECT_FALSE(SealedEmitters(moved).adopt_moved_emitters(wall_moved));
+    EXPECT_FALSE(SealedEmitters(moved).adopt_moved_instances(wall_moved));
     SealedEmitters shifted(scene);
     SceneModel all_moved = scene;
     for (Instance& inst : all_moved.instances)
         inst.transform = glm::translate(Mat4(1.0f), Vec3(1.0f, 0.0f, 0.0f)) * inst.transform;
     ASSERT_TRUE(shifted.adopt_translated(all_moved));
-    EXPECT_FALSE(shifted.adopt_moved_emitters(all_moved)) << "not after a translation";
+    EXPECT_FALSE(shifted.adopt_moved_instances(all_moved)) << "not after a translation";
 }
 
 TEST(LightCulling, RecomputesOnlyWhenTheCameraOrTheSceneChanges) {

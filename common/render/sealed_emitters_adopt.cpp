@@ -1,0 +1,185 @@
+// What SealedEmitters keeps from one scene state to the next: the whole analysis when the scene
+// only moved as a whole (camera-relative rendering), and the closed surfaces of whatever did not
+// move when some instances moved on their own (a rolling ball, a swinging door, a ring of
+// lights). Either way the result is the one a new analysis of the new state would give.
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <numeric>
+#include <optional>
+#include <tuple>
+
+#include "common/base/hash.h"
+#include "common/math/transform.h"
+#include "common/render/sealed_emitters.h"
+
+namespace pathfarm {
+
+namespace {
+
+// A content hash eight bytes a step (FNV-1a's byte steps cost a millisecond a frame on a
+// scene of 12k triangles); kept in memory only, never compared across builds.
+uint64_t hash_words(const void* data, std::size_t size, uint64_t h) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    std::size_t i = 0;
+    for (; i + 8 <= size; i += 8) {
+        uint64_t w;
+        std::memcpy(&w, bytes + i, 8);
+        h = std::rotl((h ^ w) * 0x9e3779b97f4a7c15ULL, 29);
+    }
+    return fnv1a64(bytes + i, size - i, h);
+}
+
+}  // namespace
+
+uint64_t SealedEmitters::geometry_hash(const SceneModel& scene) {
+    uint64_t h = fnv1a64(nullptr, 0);
+    auto add = [&h](const void* data, std::size_t size) { h = hash_words(data, size, h); };
+    for (const Mesh& m : scene.meshes) {
+        add(m.positions.data(), m.positions.size() * sizeof(Vec3));
+        add(m.indices.data(), m.indices.size() * sizeof(uint32_t));
+        add(&m.material, sizeof m.material);
+    }
+    for (const Material& m : scene.materials) {
+        const uint8_t flags = uint8_t(occludes(m)) | uint8_t(m.is_emissive() << 1);
+        add(&flags, 1);
+    }
+    for (const Instance& inst : scene.instances)
+        add(&inst.mesh, sizeof inst.mesh);
+    return h;
+}
+
+bool SealedEmitters::adopt_translated(const SceneModel& scene) {
+    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
+        return false;
+    return translated(scene);
+}
+
+bool SealedEmitters::translated(const SceneModel& scene) {
+    std::optional<glm::dvec3> delta;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Mat4& m = scene.instances[i].transform;
+        if (Mat3(m) != linear_[i]) return false;
+        const glm::dvec3 d = glm::dvec3(Vec3(m[3])) - translation_[i];
+        if (!delta) delta = d;
+        // Camera-relative shifts are computed in double and rounded to float per instance.
+        const double tolerance = 1e-6 * (1.0 + glm::length(glm::dvec3(Vec3(m[3]))));
+        if (glm::length(d - *delta) > tolerance) return false;
+    }
+    shift_ = delta.value_or(glm::dvec3(0.0));
+    return true;
+}
+
+bool SealedEmitters::placed_as_analysed(const SceneModel& scene, std::size_t i) const {
+    const Mat4& m = scene.instances[i].transform;
+    return Mat3(m) == linear_[i] && glm::dvec3(Vec3(m[3])) == translation_[i];
+}
+
+bool SealedEmitters::adopt(const SceneModel& scene) {
+    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
+        return false;
+    return translated(scene) || moved_instances(scene);
+}
+
+bool SealedEmitters::adopt_moved_instances(const SceneModel& scene) {
+    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
+        return false;
+    return moved_instances(scene);
+}
+
+bool SealedEmitters::moved_instances(const SceneModel& scene) {
+    if (shift_ != glm::dvec3(0.0)) return false;
+    if (skipped_) return true;  // the same occluders: over the limit still
+    std::vector<uint32_t> moved, occluders, emitters;
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        if (placed_as_analysed(scene, i)) continue;
+        moved.push_back(i);
+        const Material& m = material_of(scene, i);
+        if (occludes(m)) {
+            // Its closed surfaces may be joined with another instance's.
+            if (!isolated_[i]) return false;
+            occluders.push_back(i);
+        }
+        if (m.is_emissive()) emitters.push_back(i);
+    }
+    // The moved occluders leave: their vertices, then their enclosures.
+    for (uint32_t i : occluders)
+        for (const WeldKey& key : own_vertices_[i])
+            vertex_owner_.erase(key);
+    std::erase_if(enclosures_, [&](const Enclosure& e) {
+        return std::binary_search(occluders.begin(), occluders.end(), e.owner);
+    });
+    // The others' sides of the moved emitters, before the moved occluders' new enclosures
+    // (which find every emitter's side where it is now) are added.
+    for (Enclosure& e : enclosures_)
+        for (auto& [instance, side] : e.emitters)
+            if (std::binary_search(emitters.begin(), emitters.end(), instance))
+                side = emitter_side(e, scene.instances[instance],
+                                    scene.meshes[std::size_t(scene.instances[instance].mesh)]);
+    for (uint32_t i : occluders)
+        if (!moved_occluder(scene, i)) return false;
+    for (uint32_t i : moved) {
+        linear_[i] = Mat3(scene.instances[i].transform);
+        translation_[i] = glm::dvec3(Vec3(scene.instances[i].transform[3]));
+    }
+    return true;
+}
+
+bool SealedEmitters::moved_occluder(const SceneModel& scene, uint32_t i) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
+    MeshSurfaces& surfaces = mesh_surfaces_[i];
+    if (surfaces.welding.corner_ids.empty()) {
+        std::vector<Vec3> tris;
+        tris.reserve(mesh.indices.size());
+        for (uint32_t v : mesh.indices)
+            tris.push_back(mesh.positions[v]);
+        surfaces.welding = weld(tris);
+    }
+    // Each own vertex where it is now (a key's bits are its position, but for the sign of a
+    // zero, which cannot move it to another world key), and which of them meet.
+    const std::vector<WeldKey>& object_keys = surfaces.welding.keys;
+    std::vector<WeldKey> world(object_keys.size());
+    for (std::size_t id = 0; id < object_keys.size(); ++id) {
+        const WeldKey& k = object_keys[id];
+        world[id] = weld_key(transform_point(
+            inst.transform,
+            Vec3(std::bit_cast<float>(k.x), std::bit_cast<float>(k.y), std::bit_cast<float>(k.z))));
+    }
+    std::vector<uint32_t> order(world.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return std::tie(world[a].x, world[a].y, world[a].z, a) <
+               std::tie(world[b].x, world[b].y, world[b].z, b);
+    });
+    std::vector<uint32_t> merged(world.size());
+    std::vector<WeldKey>& own = own_vertices_[i];
+    own.clear();
+    for (std::size_t r = 0; r < order.size(); ++r) {
+        const bool met = r > 0 && world[order[r]] == world[order[r - 1]];
+        merged[order[r]] = met ? merged[order[r - 1]] : order[r];
+        if (met) continue;
+        // A vertex another occluder has too: the surfaces may join, which only a new
+        // analysis sees.
+        if (!vertex_owner_.emplace(world[order[r]], i).second) return false;
+        own.push_back(world[order[r]]);
+    }
+    if (surfaces.fresh || merged != surfaces.merged) {
+        Welding placed;
+        placed.corner_ids.reserve(surfaces.welding.corner_ids.size());
+        for (uint32_t id : surfaces.welding.corner_ids)
+            placed.corner_ids.push_back(merged[id]);
+        surfaces.closed = closed_components(placed);
+        surfaces.merged = std::move(merged);
+        surfaces.fresh = false;
+    }
+    if (surfaces.closed.empty()) return true;
+    std::vector<Vec3> tris;  // as a new analysis places them, corner by corner
+    tris.reserve(mesh.indices.size());
+    for (uint32_t v : mesh.indices)
+        tris.push_back(transform_point(inst.transform, mesh.positions[v]));
+    add_enclosures(scene, tris, std::vector<uint32_t>(tris.size() / 3, i), surfaces.closed);
+    return true;
+}
+
+}  // namespace pathfarm
