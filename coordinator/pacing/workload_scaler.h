@@ -10,7 +10,7 @@
 // transfer), which no quality level changes: scaling all of the frame time with the work
 // left a third of the tracers' time unused. A capacity drop (a tracer leaves) shows as a
 // jump in k and is acted on at once; rises in quality need the prediction to fit with a
-// margin, one level per frame, so it does not oscillate.
+// margin, and climb at most 1.1x in work per frame, so it does not oscillate.
 #pragma once
 
 #include <vector>
@@ -51,6 +51,7 @@ public:
     static double work(const QualityLevel& level);  // relative cost, 1 at 1 spp full quality
 
 private:
+    static constexpr double kMaxRise = 1.1;  // work(next level) / work(level) at most
     ScalerOptions o_;
     std::vector<QualityLevel> ladder_;  // best first
     std::size_t index_ = 0;

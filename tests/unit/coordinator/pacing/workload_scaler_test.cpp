@@ -99,6 +99,29 @@ TEST(WorkloadScaler, UsesTheBudgetAroundAFixedPerFrameCost) {
     EXPECT_GT(told_sum / speeds, untold_sum / speeds + 1.0) << untold_sum / speeds << " untold";
 }
 
+// A farm that affords 1 spp but not 2 (the demo) settles between a fine step below the rise
+// margin (0.96 x 90 ms) and the budget at every speed, its frames of 5 ms fixed plus the work:
+// with steps of 1.1x it stopped anywhere down to 78 ms, the tracers idle for the rest. Settling
+// takes a few frames: rises climb at most 1.1x in work per frame.
+TEST(WorkloadScaler, BetweenWholeSamplesTheFramesFillTheBudget) {
+    for (double k = 42.0; k <= 78.0; k += 1.5) {   // 1 spp within the margin, 2 over budget
+        WorkloadScaler s({10.0, 4, 0.35f, 0.3f});  // 100 ms frames, 90 ms budget
+        double frame = 0.0;
+        int frames_to_settle = -1;
+        for (int i = 0; i < 50; ++i) {  // a slow spell (3x) for 20 frames, then back
+            const double render = (i < 20 ? 3.0 : 1.0) * k * WorkloadScaler::work(s.level());
+            frame = 5.0 + render;
+            s.observe(frame, render);
+            if (i >= 20 && frames_to_settle < 0 && frame >= 0.95 * 0.96 * 90.0)
+                frames_to_settle = i - 20;
+        }
+        EXPECT_LE(frame, 90.0) << "ms per work " << k;
+        EXPECT_GE(frame, 0.96 * 90.0 / 1.04) << "ms per work " << k;
+        EXPECT_GE(frames_to_settle, 0) << "ms per work " << k;
+        EXPECT_LE(frames_to_settle, 15) << "ms per work " << k;
+    }
+}
+
 TEST(WorkloadScaler, SaysWhenEvenTheFloorIsTooSlow) {
     WorkloadScaler s({30.0, 4, 0.5f, 0.5f});
     run(s, 1000.0, 5);
