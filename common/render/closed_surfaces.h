@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "common/math/types.h"
@@ -25,11 +26,11 @@ struct WeldKeyHash {
 WeldKey weld_key(const Vec3& p);
 
 struct Welding {
+    std::unordered_map<WeldKey, uint32_t, WeldKeyHash> ids;  // position -> vertex id
     std::vector<WeldKey> keys;         // by vertex id, ids in order of first use
     std::vector<uint32_t> corner_ids;  // three per triangle
 };
-// Welds `tris` (three world points per triangle). By sorting rather than hashing: the
-// tracers run it every frame an occluder moves, and a node per vertex costs more than it.
+// Welds `tris` (three world points per triangle).
 Welding weld(const std::vector<Vec3>& tris);
 
 // The closed components of the welded triangles, each as its triangles' indices in increasing

@@ -64,9 +64,7 @@ SealedEmitters::Side SealedEmitters::side_of(const Enclosure& e, const Vec3& p) 
 }
 
 SealedEmitters::SealedEmitters(const SceneModel& scene)
-    : instance_count_(scene.instances.size()),
-      own_vertices_(scene.instances.size()),
-      isolated_(scene.instances.size(), false) {
+    : instance_count_(scene.instances.size()), isolated_(scene.instances.size(), false) {
     geometry_hash_ = geometry_hash(scene);
     for (const Instance& inst : scene.instances) {
         linear_.push_back(Mat3(inst.transform));
@@ -91,13 +89,13 @@ SealedEmitters::SealedEmitters(const SceneModel& scene)
         }
     }
     if (tris.empty()) return;
-    const Welding welding = weld(tris);
+    Welding welding = weld(tris);
     const auto components = closed_components(welding);
-    note_owners(welding, instance_of);
+    note_owners(std::move(welding), instance_of);
     add_enclosures(scene, tris, instance_of, components);
 }
 
-void SealedEmitters::note_owners(const Welding& welding, const std::vector<uint32_t>& instance_of) {
+void SealedEmitters::note_owners(Welding welding, const std::vector<uint32_t>& instance_of) {
     constexpr uint32_t kNone = kShared - 1;
     std::vector<uint32_t> owner(welding.keys.size(), kNone);
     for (std::size_t c = 0; c < welding.corner_ids.size(); ++c) {
@@ -109,12 +107,10 @@ void SealedEmitters::note_owners(const Welding& welding, const std::vector<uint3
         isolated_[i] = true;
     for (std::size_t c = 0; c < welding.corner_ids.size(); ++c)
         if (owner[welding.corner_ids[c]] == kShared) isolated_[instance_of[c / 3]] = false;
-    vertex_owner_.reserve(welding.keys.size());
-    for (std::size_t id = 0; id < welding.keys.size(); ++id) {
-        vertex_owner_.emplace(welding.keys[id], owner[id]);
-        if (owner[id] != kShared && isolated_[owner[id]])
-            own_vertices_[owner[id]].push_back(welding.keys[id]);
-    }
+    // The welding's own map becomes the owners' (no second pass of hashing).
+    for (auto& [key, id] : welding.ids)
+        id = owner[id];
+    vertex_owner_ = std::move(welding.ids);
 }
 
 void SealedEmitters::add_enclosures(const SceneModel& scene, const std::vector<Vec3>& tris,

@@ -61,8 +61,8 @@ private:
     static bool occludes(const Material& m);
     const Material& material_of(const SceneModel& scene, std::size_t instance) const;
     // Which instance each welded vertex of the occluders belongs to (`instance_of` per
-    // triangle), kept in vertex_owner_, own_vertices_ and isolated_.
-    void note_owners(const Welding& welding, const std::vector<uint32_t>& instance_of);
+    // triangle), kept in vertex_owner_ and isolated_.
+    void note_owners(Welding welding, const std::vector<uint32_t>& instance_of);
     // Enclosures from closed `components` of `tris` (three world points per triangle, the
     // instance of each beside), with every emitter's side of them.
     void add_enclosures(const SceneModel& scene, const std::vector<Vec3>& tris,
@@ -81,20 +81,25 @@ private:
 
     std::size_t instance_count_ = 0;
     std::vector<Enclosure> enclosures_;
-    // Every occluder vertex of the analysed scene -> the instance it belongs to (kShared if
-    // several); per instance, its vertices when they are its own alone (else empty).
+    // Every occluder vertex (as analysed, moved occluders where they are now) -> the instance
+    // it belongs to, kShared if several.
     std::unordered_map<WeldKey, uint32_t, WeldKeyHash> vertex_owner_;
-    std::vector<std::vector<WeldKey>> own_vertices_;
     std::vector<bool> isolated_;  // an occluder whose vertices are its own alone
     // A moved occluder's mesh welded in its own space. Placed in the world, vertices it keeps
-    // apart may meet (rounding, such as a sphere's pole); its closed components are kept for
+    // apart may meet (rounding, such as a sphere's poles); its closed components are kept for
     // the last such pattern, which a rigid motion rarely changes.
     struct MeshSurfaces {
         Welding welding;
         std::vector<uint32_t> merged;  // per vertex id: the id it met in the world (or itself)
         std::vector<std::vector<uint32_t>> closed;  // for `merged`
         bool fresh = true;
+        std::vector<WeldKey> keys;  // its vertices in vertex_owner_ once it moved
+        bool placed = false;        // moved since the analysis (else `keys` is not known)
     };
+    MeshSurfaces& surfaces_of(const SceneModel& scene, uint32_t instance);
+    // The distinct world vertices of `surfaces` placed by `transform`; `merged` as above.
+    static std::vector<WeldKey> place(const MeshSurfaces& surfaces, const Mat4& transform,
+                                      std::vector<uint32_t>& merged);
     std::unordered_map<uint32_t, MeshSurfaces> mesh_surfaces_;  // by instance, once moved
     bool skipped_ = false;  // over kMaxTriangles: nothing is ever culled
     // What adopt_translated() compares: geometry and materials, the instances' linear parts,

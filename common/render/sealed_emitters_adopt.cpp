@@ -103,9 +103,18 @@ bool SealedEmitters::moved_instances(const SceneModel& scene) {
         if (m.is_emissive()) emitters.push_back(i);
     }
     // The moved occluders leave: their vertices, then their enclosures.
-    for (uint32_t i : occluders)
-        for (const WeldKey& key : own_vertices_[i])
-            vertex_owner_.erase(key);
+    for (uint32_t i : occluders) {
+        MeshSurfaces& surfaces = surfaces_of(scene, i);
+        if (!surfaces.placed) {  // where the analysis found it
+            Mat4 analysed(linear_[i]);
+            analysed[3] = Vec4(Vec3(translation_[i]), 1.0f);
+            std::vector<uint32_t> merged;
+            surfaces.keys = place(surfaces, analysed, merged);
+        }
+        for (const WeldKey& key : surfaces.keys)
+            if (auto it = vertex_owner_.find(key); it != vertex_owner_.end() && it->second == i)
+                vertex_owner_.erase(it);
+    }
     std::erase_if(enclosures_, [&](const Enclosure& e) {
         return std::binary_search(occluders.begin(), occluders.end(), e.owner);
     });
@@ -125,25 +134,29 @@ bool SealedEmitters::moved_instances(const SceneModel& scene) {
     return true;
 }
 
-bool SealedEmitters::moved_occluder(const SceneModel& scene, uint32_t i) {
-    const Instance& inst = scene.instances[i];
-    const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
+SealedEmitters::MeshSurfaces& SealedEmitters::surfaces_of(const SceneModel& scene, uint32_t i) {
     MeshSurfaces& surfaces = mesh_surfaces_[i];
     if (surfaces.welding.corner_ids.empty()) {
+        const Mesh& mesh = scene.meshes[std::size_t(scene.instances[i].mesh)];
         std::vector<Vec3> tris;
         tris.reserve(mesh.indices.size());
         for (uint32_t v : mesh.indices)
             tris.push_back(mesh.positions[v]);
         surfaces.welding = weld(tris);
     }
-    // Each own vertex where it is now (a key's bits are its position, but for the sign of a
-    // zero, which cannot move it to another world key), and which of them meet.
+    return surfaces;
+}
+
+std::vector<WeldKey> SealedEmitters::place(const MeshSurfaces& surfaces, const Mat4& transform,
+                                           std::vector<uint32_t>& merged) {
+    // Each own vertex where it is placed (a key's bits are its position, but for the sign of
+    // a zero, which cannot move it to another world key), and which of them meet.
     const std::vector<WeldKey>& object_keys = surfaces.welding.keys;
     std::vector<WeldKey> world(object_keys.size());
     for (std::size_t id = 0; id < object_keys.size(); ++id) {
         const WeldKey& k = object_keys[id];
         world[id] = weld_key(transform_point(
-            inst.transform,
+            transform,
             Vec3(std::bit_cast<float>(k.x), std::bit_cast<float>(k.y), std::bit_cast<float>(k.z))));
     }
     std::vector<uint32_t> order(world.size());
@@ -152,18 +165,27 @@ bool SealedEmitters::moved_occluder(const SceneModel& scene, uint32_t i) {
         return std::tie(world[a].x, world[a].y, world[a].z, a) <
                std::tie(world[b].x, world[b].y, world[b].z, b);
     });
-    std::vector<uint32_t> merged(world.size());
-    std::vector<WeldKey>& own = own_vertices_[i];
-    own.clear();
+    merged.resize(world.size());
+    std::vector<WeldKey> keys;
     for (std::size_t r = 0; r < order.size(); ++r) {
         const bool met = r > 0 && world[order[r]] == world[order[r - 1]];
         merged[order[r]] = met ? merged[order[r - 1]] : order[r];
-        if (met) continue;
+        if (!met) keys.push_back(world[order[r]]);
+    }
+    return keys;
+}
+
+bool SealedEmitters::moved_occluder(const SceneModel& scene, uint32_t i) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[std::size_t(inst.mesh)];
+    MeshSurfaces& surfaces = surfaces_of(scene, i);
+    std::vector<uint32_t> merged;
+    surfaces.keys = place(surfaces, inst.transform, merged);
+    surfaces.placed = true;
+    for (const WeldKey& key : surfaces.keys)
         // A vertex another occluder has too: the surfaces may join, which only a new
         // analysis sees.
-        if (!vertex_owner_.emplace(world[order[r]], i).second) return false;
-        own.push_back(world[order[r]]);
-    }
+        if (!vertex_owner_.emplace(key, i).second) return false;
     if (surfaces.fresh || merged != surfaces.merged) {
         Welding placed;
         placed.corner_ids.reserve(surfaces.welding.corner_ids.size());

@@ -14,6 +14,7 @@
 
 #include "common/math/transform.h"
 #include "common/render/sealed_emitters.h"
+#include "common/scene/load/builtin_scenes.h"
 #include "common/scene/load/procedural_mesh.h"
 #include "common/scene/load/scene_builder.h"
 
@@ -148,6 +149,28 @@ TEST(SealedEmittersAdopt, MovedInstancesGiveWhatANewAnalysisGives) {
         "adopted %d, analysed anew %d, a lamp culled in the room %d, enclosure count "
         "changed %d\n",
         adopted, analysed, culled_in_room, enclosures_changed);
+}
+
+// What the demo does every frame: builtin:default's gold ball rolls to and fro. Each state is
+// adopted (the ball's vertices are its own), returning to earlier places included.
+TEST(SealedEmittersAdopt, ARollingBallIsAdoptedEveryFrame) {
+    const SceneModel scene = make_default_scene();
+    std::size_t ball = scene.instances.size();
+    for (std::size_t i = 0; i < scene.instances.size(); ++i)
+        if (scene.nodes[std::size_t(scene.instances[i].node)].name == "gold-ball") ball = i;
+    ASSERT_LT(ball, scene.instances.size());
+    SealedEmitters kept(scene);
+    for (int f = 1; f <= 24; ++f) {
+        SceneModel moved = scene;
+        const float x = 0.05f * float(f <= 12 ? f : 24 - f);  // there and back
+        moved.instances[ball].transform =
+            glm::translate(Mat4(1.0f), Vec3(x, 0.0f, 0.0f)) * moved.instances[ball].transform;
+        ASSERT_TRUE(kept.adopt(moved)) << "frame " << f;
+        const SealedEmitters fresh(moved);
+        const Vec3 eye = transform_point(moved.cameras.at(0).camera_to_world, Vec3(0.0f));
+        EXPECT_EQ(kept.culled(eye), fresh.culled(eye)) << "frame " << f;
+        EXPECT_EQ(kept.enclosure_count(), fresh.enclosure_count()) << "frame " << f;
+    }
 }
 
 }  // namespace
