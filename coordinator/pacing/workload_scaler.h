@@ -10,7 +10,8 @@
 // transfer), which no quality level changes: scaling all of the frame time with the work
 // left a third of the tracers' time unused. A capacity drop (a tracer leaves) shows as a
 // jump in k and is acted on at once; rises in quality need the prediction to fit with a
-// margin, and climb at most 1.1x in work per frame, so it does not oscillate.
+// margin, and climb one level a frame or several within 1.1x in work, so it does not
+// oscillate.
 #pragma once
 
 #include <vector>
