@@ -24,6 +24,17 @@ public:
     virtual bool intersect(const Ray& ray, Hit& hit) const = 0;
     // Whether anything lies on [0, ray.tmax].
     virtual bool occluded(const Ray& ray) const = 0;
+
+    // The most rays intersect_coherent() takes in one call.
+    static constexpr int kCoherentWidth = 8;
+    // Closest hits of `count` (1 to kCoherentWidth) rays that leave from about one point in
+    // about one direction, such as neighbouring pixels' camera rays: found[i] and hits[i] are
+    // what intersect() answers for rays[i]. A kernel may trace them as one packet (whose
+    // traversal shares the nodes they all visit); this one traces them in turn.
+    virtual void intersect_coherent(const Ray* rays, int count, Hit* hits, bool* found) const {
+        for (int i = 0; i < count; ++i)
+            found[i] = intersect(rays[i], hits[i]);
+    }
 };
 
 }  // namespace pathfarm

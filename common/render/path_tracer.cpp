@@ -135,9 +135,16 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
 }
 
 FirstHit PathTracer::first_hit(const Ray& ray, SampleCounters& counters) const {
-    Hit hit;
+    KnownHit first;
+    first.found = kernel_.intersect(ray, first.hit);
+    return first_hit(ray, first, counters);
+}
+
+FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
+                               SampleCounters& counters) const {
     ++counters.rays;
-    if (!kernel_.intersect(ray, hit)) return FirstHit{};
+    if (!first.found) return FirstHit{};
+    const Hit& hit = first.hit;
     SurfacePoint sp = shading_.surface(hit);
     const MaterialPoint mp = shading_.material_point(sp);
     const bool sharp = max_component(shading_.emitted(sp, -ray.d)) > 0.0f ||
@@ -153,7 +160,8 @@ FirstHit PathTracer::first_hit(const Ray& ray, SampleCounters& counters) const {
 }
 
 template <uint32_t kFeatures>
-Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
+Rgb PathTracer::trace_with(Ray ray, const KnownHit* first, PixelSampler& sampler,
+                           SampleCounters& counters) const {
     constexpr bool kEmitters = kFeatures & kFeatureEmitters;
     constexpr bool kEnvironment = kFeatures & kFeatureEnvironment;
     constexpr bool kTransmission = kFeatures & kFeatureTransmission;
@@ -163,7 +171,13 @@ Rgb PathTracer::trace_with(Ray ray, PixelSampler& sampler, SampleCounters& count
     for (int depth = 0;; ++depth) {
         Hit hit;
         ++counters.rays;
-        const bool found = kernel_.intersect(ray, hit);
+        bool found;
+        if (depth == 0 && first) {
+            found = first->found;
+            hit = first->hit;
+        } else {
+            found = kernel_.intersect(ray, hit);
+        }
         const bool count_emission = s.counts_emission(settings_.strategy);
         if (!found) {
             if (kEnvironment && lights_.has_environment() && count_emission)

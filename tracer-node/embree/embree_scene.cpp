@@ -1,73 +1,21 @@
 // Embree 3 two-level scene: construction, incremental updates and ray queries.
 #include "tracer-node/embree/embree_scene.h"
 
+#include <algorithm>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include <embree3/rtcore.h>
 
-#include "common/math/transform.h"
-#include "common/scene/alpha.h"
+#include "tracer-node/embree/embree_geometry.h"
 
 namespace pathfarm::tracer {
 namespace {
 
-const char* embree_error_name(RTCError code) {
-    switch (code) {
-        case RTC_ERROR_NONE:
-            return "RTC_ERROR_NONE";
-        case RTC_ERROR_INVALID_ARGUMENT:
-            return "RTC_ERROR_INVALID_ARGUMENT";
-        case RTC_ERROR_INVALID_OPERATION:
-            return "RTC_ERROR_INVALID_OPERATION";
-        case RTC_ERROR_OUT_OF_MEMORY:
-            return "RTC_ERROR_OUT_OF_MEMORY";
-        case RTC_ERROR_UNSUPPORTED_CPU:
-            return "RTC_ERROR_UNSUPPORTED_CPU";
-        case RTC_ERROR_CANCELLED:
-            return "RTC_ERROR_CANCELLED";
-        default:
-            return "RTC_ERROR_UNKNOWN";
-    }
-}
-
-// What an alpha-tested geometry's filter needs (glTF MASK / BLEND: common/scene/alpha.h). The
-// scene pointer follows every update; the mesh is found by index in it.
-struct AlphaGeometry {
-    const SceneModel* scene = nullptr;
-    uint32_t mesh = 0;
-};
-
-// Intersection and occlusion filter: rejects hits the material's alpha discards. The ray is in
-// the mesh's object space; the BLEND hash only needs to be deterministic per ray.
-void alpha_filter(const RTCFilterFunctionNArguments* args) {
-    const auto* g = static_cast<const AlphaGeometry*>(args->geometryUserPtr);
-    const Mesh& mesh = g->scene->meshes[g->mesh];
-    const unsigned n = args->N;
-    for (unsigned i = 0; i < n; ++i) {
-        if (args->valid[i] != -1) continue;
-        RTCRayN* ray = args->ray;
-        RTCHitN* hit = args->hit;
-        const Vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
-        const Vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
-        if (!alpha_keeps_hit(*g->scene, mesh, RTCHitN_primID(hit, n, i), RTCHitN_u(hit, n, i),
-                             RTCHitN_v(hit, n, i), o, d, RTCRayN_tfar(ray, n, i)))
-            args->valid[i] = 0;
-    }
-}
-
 // Up to this many baked triangles share the top level with the instances of shared meshes
 // (a top-level commit rebuilds them: about 2 ms at this size).
 constexpr std::size_t kFlatTopTriangles = 4000;
-
-// One Embree triangle geometry and what its alpha filter reads.
-struct TriangleGeometry {
-    RTCGeometry geom = nullptr;  // owned by its scene
-    std::size_t vertex_count = 0;
-    bool filtered = false;  // alpha filter installed
-    std::unique_ptr<AlphaGeometry> alpha = std::make_unique<AlphaGeometry>();
-};
 
 // A mesh placed by several instances: its own scene in object space, instanced.
 struct SharedMesh {
@@ -75,37 +23,6 @@ struct SharedMesh {
     TriangleGeometry tri;
     std::vector<uint32_t> users;  // the instances placing it
 };
-
-// Writes the mesh's positions into the geometry's vertex buffer (allocated when its size
-// changed), moved by `to_model` when given: exactly the arithmetic ShadingScene uses, so hits
-// and shading agree.
-void write_positions(TriangleGeometry& g, const Mesh& mesh, const Mat4* to_model) {
-    if (g.vertex_count != mesh.positions.size()) {
-        rtcSetNewGeometryBuffer(g.geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), mesh.positions.size());
-        g.vertex_count = mesh.positions.size();
-    }
-    auto* v = static_cast<float*>(rtcGetGeometryBufferData(g.geom, RTC_BUFFER_TYPE_VERTEX, 0));
-    if (v == nullptr) return;  // the device reported the error
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        const Vec3 p = to_model ? transform_point(*to_model, mesh.positions[i]) : mesh.positions[i];
-        v[3 * i] = p.x;
-        v[3 * i + 1] = p.y;
-        v[3 * i + 2] = p.z;
-    }
-    rtcUpdateGeometryBuffer(g.geom, RTC_BUFFER_TYPE_VERTEX, 0);
-}
-
-// Installs or removes the alpha filter to follow the mesh's material; true if it changed.
-bool follow_material(TriangleGeometry& g, const SceneModel& scene) {
-    const Mesh& mesh = scene.meshes[g.alpha->mesh];
-    const bool wanted = scene.materials[std::size_t(mesh.material)].alpha_tested();
-    if (wanted == g.filtered) return false;
-    g.filtered = wanted;
-    rtcSetGeometryIntersectFilterFunction(g.geom, wanted ? &alpha_filter : nullptr);
-    rtcSetGeometryOccludedFilterFunction(g.geom, wanted ? &alpha_filter : nullptr);
-    return true;
-}
 
 }  // namespace
 
@@ -119,6 +36,7 @@ struct EmbreeScene::Impl {
     RTCScene top = nullptr;
     RTCScene baked = nullptr;
     uint32_t baked_id = 0;                // the baked scene's instance in the top level
+    bool packets = false;                 // the device traces 8-ray packets natively
     std::vector<TriangleGeometry> bakes;  // by SceneModel instance (geom null: not baked)
     std::vector<SharedMesh> shared;       // by SceneModel mesh (scene null: not shared)
     std::vector<RTCGeometry> placements;  // by SceneModel instance: its instance of a shared mesh
@@ -241,6 +159,13 @@ struct EmbreeScene::Impl {
         rtcCommitScene(top);
     }
 
+    // An Embree hit as the integrator's: baked triangles carry their instance's index as
+    // geometry ID, placements as instance ID.
+    Hit to_hit(float t, unsigned geom, unsigned placed, unsigned prim, float u, float v) const {
+        return {t, placed == RTC_INVALID_GEOMETRY_ID || placed == baked_id ? geom : placed, prim, u,
+                v};
+    }
+
     bool is_baked(uint32_t instance) const { return bakes[instance].geom != nullptr; }
     // Mesh m is placed once, by an instance that is not dynamic: its triangles are baked.
     bool baked_mesh(const SceneModel& scene, std::size_t m) const {
@@ -325,6 +250,8 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const SceneModel& scene,
         return make_error(ErrorCode::backend_error, "embree: cannot create device ({})",
                           embree_error_name(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(impl->device, &Impl::on_error, impl.get());
+    impl->packets =
+        rtcGetDeviceProperty(impl->device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) != 0;
     impl->build(scene);
     if (!impl->first_error.empty())
         return make_error(ErrorCode::backend_error, "embree: scene build failed: {}",
@@ -364,15 +291,47 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->top, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    hit.t = rh.ray.tfar;
-    // Baked triangles carry their instance's index as geometry ID, placements as instance ID.
-    const uint32_t placed = rh.hit.instID[0];
-    hit.instance =
-        placed == RTC_INVALID_GEOMETRY_ID || placed == impl_->baked_id ? rh.hit.geomID : placed;
-    hit.prim = rh.hit.primID;
-    hit.u = rh.hit.u;
-    hit.v = rh.hit.v;
+    hit = impl_->to_hit(rh.ray.tfar, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.hit.u,
+                        rh.hit.v);
     return true;
+}
+
+void EmbreeScene::intersect_coherent(const Ray* rays, int count, Hit* hits, bool* found) const {
+    if (!impl_->packets || count < 2) {
+        Intersector::intersect_coherent(rays, count, hits, found);
+        return;
+    }
+    static_assert(kCoherentWidth == 8, "one RTCRayHit8 per call");
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCRayHit8 rh;
+    int valid[8];
+    for (int i = 0; i < 8; ++i) {
+        const Ray& r = rays[std::min(i, count - 1)];  // inactive lanes copy a real ray
+        valid[i] = i < count ? -1 : 0;
+        rh.ray.org_x[i] = r.o.x;
+        rh.ray.org_y[i] = r.o.y;
+        rh.ray.org_z[i] = r.o.z;
+        rh.ray.dir_x[i] = r.d.x;
+        rh.ray.dir_y[i] = r.d.y;
+        rh.ray.dir_z[i] = r.d.z;
+        rh.ray.tnear[i] = 0.0f;
+        rh.ray.tfar[i] = r.tmax;
+        rh.ray.time[i] = 0.0f;
+        rh.ray.mask[i] = 0xffffffffU;
+        rh.ray.id[i] = unsigned(i);
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, impl_->top, &context, &rh);
+    for (int i = 0; i < count; ++i) {
+        found[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (found[i])
+            hits[i] = impl_->to_hit(rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.instID[0][i],
+                                    rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]);
+    }
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {

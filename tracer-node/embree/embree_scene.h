@@ -46,6 +46,8 @@ public:
 
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
+    // One 8-ray packet with Embree's coherent traversal, where the device has it natively.
+    void intersect_coherent(const Ray* rays, int count, Hit* hits, bool* found) const override;
 
     struct Impl;
 
