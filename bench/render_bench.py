@@ -68,36 +68,46 @@ def embree(path, view, frames):
     return {"samples_per_s": fps * WIDTH * HEIGHT, "rays_per_s": mrays * 1e6}
 
 
-def throughput(render, rounds, spp, frames, out_dir):
+def throughput(render, rounds, spp, frames, out_dir, baseline=None):
+    """With `baseline` (another pathfarm-render), it runs in turn with the two others every
+    round, and the summary gains its rays/s and the ratio of ours to it."""
     rows, summary = [], []
     for view in VIEWS:
         name, rel, eye, at, fov = view
         path = os.path.join(SCENES, rel)
         if not os.path.exists(path):
             sys.exit(f"render_bench: {path} missing (set PATHFARM_SCENES)")
-        ours, theirs = [], []
+        ours, theirs, base = [], [], []
+        args = ["--spp", str(spp), "--width", str(WIDTH), "--height", str(HEIGHT),
+                "--look-from", *map(str, eye), "--look-at", *map(str, at), "--fov", str(fov)]
         for r in range(rounds):  # A/B alternated so machine noise hits both alike
-            o = pathfarm(render, path, ["--spp", str(spp), "--width", str(WIDTH), "--height", str(HEIGHT),
-                                        "--look-from", *map(str, eye), "--look-at", *map(str, at), "--fov", str(fov),
-                                        "--out", os.path.join(out_dir, f"{name}.exr")])
+            o = pathfarm(render, path, args + ["--out", os.path.join(out_dir, f"{name}.exr")])
             e = embree(path, view, frames)
             ours.append(o)
             theirs.append(e)
             rows.append([name, "pathfarm", r, round(o["samples_per_s"]), round(o["rays_per_s"])])
             rows.append([name, "embree-pathtracer", r, round(e["samples_per_s"]), round(e["rays_per_s"])])
+            if baseline:
+                b = pathfarm(baseline, path, args + ["--out", os.path.join(out_dir, f"{name}-baseline.exr")])
+                base.append(b)
+                rows.append([name, "pathfarm-baseline", r, round(b["samples_per_s"]), round(b["rays_per_s"])])
         med = lambda xs, k: statistics.median(x[k] for x in xs)
-        summary.append([name, round(med(ours, "samples_per_s")), round(med(theirs, "samples_per_s")),
-                        round(med(ours, "samples_per_s") / med(theirs, "samples_per_s"), 3),
-                        round(med(ours, "rays_per_s")), round(med(theirs, "rays_per_s")),
-                        round(med(ours, "rays_per_s") / med(theirs, "rays_per_s"), 3)])
+        line = [name, round(med(ours, "samples_per_s")), round(med(theirs, "samples_per_s")),
+                round(med(ours, "samples_per_s") / med(theirs, "samples_per_s"), 3),
+                round(med(ours, "rays_per_s")), round(med(theirs, "rays_per_s")),
+                round(med(ours, "rays_per_s") / med(theirs, "rays_per_s"), 3)]
+        if baseline:
+            line += [round(med(base, "rays_per_s")), round(med(ours, "rays_per_s") / med(base, "rays_per_s"), 3)]
+        summary.append(line)
     o = [pathfarm(render, "builtin:cornell", ["--spp", str(spp), "--width", str(WIDTH), "--height", str(HEIGHT),
                                               "--out", os.path.join(out_dir, "builtin-cornell.exr")]) for _ in range(rounds)]
     summary.append(["builtin:cornell", round(statistics.median(x["samples_per_s"] for x in o)), "", "",
-                    round(statistics.median(x["rays_per_s"] for x in o)), "", ""])
+                    round(statistics.median(x["rays_per_s"] for x in o)), "", ""] + (["", ""] if baseline else []))
     write_csv(os.path.join(out_dir, "throughput_runs.csv"), ["scene", "renderer", "round", "samples_per_s", "rays_per_s"], rows)
     write_csv(os.path.join(out_dir, "throughput.csv"),
               ["scene", "pathfarm_samples_per_s", "embree_samples_per_s", "samples_ratio",
-               "pathfarm_rays_per_s", "embree_rays_per_s", "rays_ratio"], summary)
+               "pathfarm_rays_per_s", "embree_rays_per_s", "rays_ratio"]
+              + (["baseline_rays_per_s", "rays_over_baseline"] if baseline else []), summary)
     return summary
 
 
@@ -160,16 +170,22 @@ def main():
     p.add_argument("--render", default=os.path.join(ROOT, "build", "release", "tools", "pathfarm-render"))
     p.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     p.add_argument("--quick", action="store_true", help="fewer rounds and a cheaper reference")
+    p.add_argument("--baseline", help="another pathfarm-render, run in turn with the two others")
+    p.add_argument("--rounds", type=int, help="rounds of the throughput runs (default 3, 1 with --quick)")
+    p.add_argument("--throughput-only", action="store_true", help="skip the time-to-error runs and plots")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rounds, spp, frames = (1, 4, 4) if a.quick else (3, 16, 16)
-    summary = throughput(a.render, rounds, spp, frames, a.out)
+    summary = throughput(a.render, a.rounds or rounds, spp, frames, a.out, a.baseline)
+    print("scene,pathfarm_samples_per_s,embree_samples_per_s,samples_ratio,pathfarm_rays_per_s,embree_rays_per_s,rays_ratio"
+          + (",baseline_rays_per_s,rays_over_baseline" if a.baseline else ""))
+    for row in summary:
+        print(",".join(map(str, row)))
+    if a.throughput_only:
+        return
     reached = time_to_error(a.render, 256 if a.quick else 4096, 7 if a.quick else 10, a.out,
                             os.path.join(ROOT, "bench", "cache"))
     plot(a.out)
-    print("scene,pathfarm_samples_per_s,embree_samples_per_s,samples_ratio,pathfarm_rays_per_s,embree_rays_per_s,rays_ratio")
-    for row in summary:
-        print(",".join(map(str, row)))
     print("variant,seconds_to_rmse_0.02,spp_reached")
     for row in reached:
         print(",".join(map(str, row)))
