@@ -23,25 +23,33 @@ Bsdf::Bsdf(const MaterialPoint& mp)
     f0_dielectric_ = glm::min(Rgb(r * r) * mp.specular_color, Rgb(1.0f)) * mp.specular;
     // The Lambert base of the plastic lobe is never a delta lobe.
     has_non_delta_ = !smooth_ || w_plastic_ > 0.0f;
+    rough_specular_ = !smooth_ && (w_metal_ > 0.0f || (w_plastic_ > 0.0f && mp.specular > 0.0f));
 }
 
 BsdfOutgoing Bsdf::outgoing(const Vec3& wo) const {
     BsdfOutgoing o;
     o.wo = wo;
-    o.lambda_o = Ggx(mp_.alpha).lambda(wo);
+    if (rough_specular_) o.lambda_o = Ggx(mp_.alpha).lambda(wo);
     o.plastic_specular = plastic_specular_probability(wo);
-    o.plastic_transmit_o =
-        1.0f - max_component(fresnel_schlick(f0_dielectric_, Rgb(mp_.specular), wo.z));
+    o.plastic_transmit_o = plastic_transmittance(wo.z);
     return o;
+}
+
+// What the plastic's specular layer lets through at cosine c: all of it without a layer
+// (specular 0: F0 and F90 are 0, so Schlick's Fresnel is exactly 0).
+float Bsdf::plastic_transmittance(float c) const {
+    if (!(mp_.specular > 0.0f)) return 1.0f;
+    return 1.0f - max_component(fresnel_schlick(f0_dielectric_, Rgb(mp_.specular), c));
 }
 
 void Bsdf::eval_pdf_reflection(const BsdfOutgoing& o, const Vec3& wi, Rgb& f, float& pdf) const {
     const Vec3& wo = o.wo;
     if (wo.z <= 0.0f || wi.z <= 0.0f) return;
     // The microfacet terms the metal and the plastic's specular layer share: the value's
-    // D G2 / (4 cos_o cos_i) and the density of the visible normal m.
+    // D G2 / (4 cos_o cos_i) and the density of the visible normal m. A pure Lambert surface
+    // (no metal, specular 0: OBJ's Ks 0) needs none of them.
     float cos_om = 0.0f, specular = 0.0f, visible = 0.0f;
-    if (!smooth_) {
+    if (rough_specular_) {
         const Ggx ggx(mp_.alpha);
         const Vec3 m = glm::normalize(wo + wi);
         const float d = ggx.d(m);
@@ -58,14 +66,14 @@ void Bsdf::eval_pdf_reflection(const BsdfOutgoing& o, const Vec3& wi, Rgb& f, fl
         // The Lambert base receives what the specular layer transmits on the way in and out.
         // The glTF spec's (1 - F(v.h)) weighting reflects more than it receives at grazing
         // angles; this symmetric form is reciprocal and conserves energy (bsdf_test).
-        const Rgb f0(f0_dielectric_), f90(mp_.specular);
-        const float t_i = 1.0f - max_component(fresnel_schlick(f0, f90, wi.z));
+        const float t_i = plastic_transmittance(wi.z);
         Rgb value = (o.plastic_transmit_o * t_i) * mp_.base_color * kInvPi;
-        if (!smooth_ && mp_.specular > 0.0f) value += fresnel_schlick(f0, f90, cos_om) * specular;
+        if (!smooth_ && mp_.specular > 0.0f)
+            value += fresnel_schlick(f0_dielectric_, Rgb(mp_.specular), cos_om) * specular;
         f += w_plastic_ * value;
-        const float ps = o.plastic_specular;
+        const float ps = o.plastic_specular;  // 0 without a specular layer
         float p = (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
-        if (!smooth_) p += ps * visible / (4.0f * cos_om);
+        if (rough_specular_) p += ps * visible / (4.0f * cos_om);
         pdf += w_plastic_ * p;
     }
 }

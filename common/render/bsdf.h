@@ -68,6 +68,7 @@ private:
     float eval_glass(const Vec3& wo, const Vec3& wi) const;
     float pdf_glass(const Vec3& wo, const Vec3& wi) const;
     float plastic_specular_probability(const Vec3& wo) const;
+    float plastic_transmittance(float cos_theta) const;
     bool sample_glass(const Vec3& wo, float u_lobe, Vec2 u, BsdfSample& out) const;
 
     MaterialPoint mp_;
@@ -75,6 +76,7 @@ private:
     Rgb f0_dielectric_;
     bool smooth_;
     bool has_non_delta_;
+    bool rough_specular_;  // a rough metal or specular layer: the microfacet terms are needed
 };
 
 }  // namespace pathfarm
