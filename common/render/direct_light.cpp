@@ -29,13 +29,18 @@ struct PathTracer::LightCandidate {
     Vec3 wi;
     float dist = kInfinity;
     Rgb contribution{0.0f};  // unshadowed, MIS-weighted, over the light sampler's pdf
+    // Its factors without the light's radiance, for a sample whose radiance is deferred:
+    // contribution = (throughput * radiance) * weight_over_pdf, the same product in order.
+    Rgb throughput{0.0f};
+    float weight_over_pdf = 0.0f;
 };
 
 // One light sample seen from x, before its shadow ray; false when it cannot contribute.
 bool PathTracer::light_candidate(const ShadingPoint& x, float u_select, Vec2 u_light,
-                                 LightCandidate& c) const {
-    const auto ls = lights_.sample(x.sp.p, x.sp.ng, u_select, u_light);
-    if (!ls || ls->pdf <= 0.0f || max_component(ls->radiance) <= 0.0f) return false;
+                                 LightCandidate& c, bool defer_environment) const {
+    const auto ls = lights_.sample(x.sp.p, x.sp.ng, u_select, u_light, defer_environment);
+    if (!ls || ls->pdf <= 0.0f) return false;
+    if (!ls->radiance_deferred && max_component(ls->radiance) <= 0.0f) return false;
     c.ls = *ls;
     float pdf_light = ls->pdf;
     if (ls->environment) {
@@ -66,7 +71,10 @@ bool PathTracer::light_candidate(const ShadingPoint& x, float u_select, Vec2 u_l
                            : Rgb(0.0f);
     const Rgb transmittance =
         ls->environment || max_component(medium) <= 0.0f ? Rgb(1.0f) : glm::exp(-medium * c.dist);
-    c.contribution = f * transmittance * ls->radiance * (weight / pdf_light);
+    c.throughput = f * transmittance;
+    c.weight_over_pdf = weight / pdf_light;
+    if (ls->radiance_deferred) return max_component(c.throughput) > 0.0f;
+    c.contribution = c.throughput * ls->radiance * c.weight_over_pdf;
     return max_component(c.contribution) > 0.0f;
 }
 
@@ -95,10 +103,12 @@ Rgb PathTracer::sample_direct(const ShadingPoint& x, PixelSampler& sampler,
         return Rgb(0.0f);
     const int m = std::clamp(settings_.light_candidates, 1, kMaxLightCandidates);
     if (m == 1) {
+        // The sky's radiance only once its shadow ray escapes (indoors most do not).
         LightCandidate c;
-        if (!light_candidate(x, u_select.x, u_light, c) || !unoccluded(x, c, counters))
+        if (!light_candidate(x, u_select.x, u_light, c, true) || !unoccluded(x, c, counters))
             return Rgb(0.0f);
-        return c.contribution;
+        if (!c.ls.radiance_deferred) return c.contribution;
+        return c.throughput * lights_.environment_radiance(c.wi) * c.weight_over_pdf;
     }
     LightCandidate candidates[kMaxLightCandidates];
     float weight[kMaxLightCandidates];

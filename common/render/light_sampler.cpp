@@ -100,16 +100,20 @@ float LightSampler::selection_pmf(std::size_t k, const Vec3& from, const Vec3& n
 }
 
 std::optional<LightSample> LightSampler::sample(const Vec3& from, const Vec3& normal,
-                                                float u_select, Vec2 u) const {
+                                                float u_select, Vec2 u,
+                                                bool defer_environment) const {
     if (empty()) return std::nullopt;
     LightSample ls;
     if (u_select < p_environment_) {
-        const EnvSample es = sun_sky_->sample(u_select / p_environment_, u);
+        const float u_choice = u_select / p_environment_;
+        const EnvSample es = defer_environment ? sun_sky_->sample_direction(u_choice, u)
+                                               : sun_sky_->sample(u_choice, u);
         if (es.pdf <= 0.0f) return std::nullopt;
         ls.p = es.wi;
         ls.radiance = es.radiance;
         ls.pdf = p_environment_ * es.pdf;
         ls.environment = true;
+        ls.radiance_deferred = defer_environment;
         return ls;
     }
     const float us = (u_select - p_environment_) / (1.0f - p_environment_);

@@ -21,6 +21,9 @@ struct LightSample {
     Rgb radiance{0.0f};  // emitted towards the receiver, before visibility
     float pdf = 0.0f;    // includes the selection probability; area or solid-angle measure
     bool environment = false;
+    // An environment sample drawn without its radiance (left zero): environment_radiance(p)
+    // gives it once a shadow ray has found the sky visible.
+    bool radiance_deferred = false;
 };
 
 // How an emissive triangle is chosen (--light-sampler tree|power).
@@ -45,9 +48,11 @@ public:
 
     bool empty() const { return triangles_.empty() && !sun_sky_; }
     // Samples a light as seen from a receiver at `from` with geometric normal `normal` (zero:
-    // none, e.g. a medium). u_select chooses, u positions.
-    std::optional<LightSample> sample(const Vec3& from, const Vec3& normal, float u_select,
-                                      Vec2 u) const;
+    // none, e.g. a medium). u_select chooses, u positions. With `defer_environment`, a sun/sky
+    // sample comes without its radiance (LightSample::radiance_deferred): the Preetham sky's
+    // six exponentials and an arc cosine are then spent only where its shadow ray escapes.
+    std::optional<LightSample> sample(const Vec3& from, const Vec3& normal, float u_select, Vec2 u,
+                                      bool defer_environment = false) const;
     // Selection probability times 1/area for the emissive triangle (instance, prim) as
     // sample() at (from, normal) chooses it; 0 if it is not a light.
     float triangle_pdf_area(uint32_t instance, uint32_t prim, const Vec3& from,

@@ -124,8 +124,11 @@ private:
     // One light sample's contribution at x, or (light_candidates > 1) one chosen from several.
     Rgb sample_direct(const ShadingPoint& x, PixelSampler& sampler, SampleCounters& counters) const;
     struct LightCandidate;
-    bool light_candidate(const ShadingPoint& x, float u_select, Vec2 u_light,
-                         LightCandidate& c) const;
+    // With defer_environment, a sun/sky candidate's contribution is left to the caller
+    // (LightCandidate::throughput, weight_over_pdf): RIS weighs candidates by it, one sample
+    // needs it only where its shadow ray escapes.
+    bool light_candidate(const ShadingPoint& x, float u_select, Vec2 u_light, LightCandidate& c,
+                         bool defer_environment = false) const;
     bool unoccluded(const ShadingPoint& x, const LightCandidate& c, SampleCounters& counters) const;
     // Density (solid angle, from origin) of light sampling choosing the emitter point sp.
     float light_pdf_solid_angle(const Hit& hit, const Vec3& origin, const Vec3& origin_normal,

@@ -115,6 +115,12 @@ Rgb SunSky::radiance(const Vec3& w) const {
 }
 
 EnvSample SunSky::sample(float u_choice, Vec2 u) const {
+    EnvSample s = sample_direction(u_choice, u);
+    s.radiance = radiance(s.wi);
+    return s;
+}
+
+EnvSample SunSky::sample_direction(float u_choice, Vec2 u) const {
     EnvSample s;
     if (u_choice < p_sun_) {
         s.wi = Frame::from_normal(sun_dir_).to_world(sample_uniform_cone(u, sun_cos_max_));
@@ -124,7 +130,6 @@ EnvSample SunSky::sample(float u_choice, Vec2 u) const {
         s.wi = Vec3(h.x, h.z, h.y);
     }
     s.pdf = pdf(s.wi);
-    s.radiance = radiance(s.wi);
     return s;
 }
 

@@ -39,6 +39,8 @@ public:
     Rgb radiance(const Vec3& w) const;
     // Samples the sun cone or the upper hemisphere; pdf() is the matching mixture density.
     EnvSample sample(float u_choice, Vec2 u) const;
+    // sample() without the radiance (left zero): a shadow ray may make it unneeded.
+    EnvSample sample_direction(float u_choice, Vec2 u) const;
     float pdf(const Vec3& w) const;
 
     const Vec3& sun_direction() const { return sun_dir_; }
