@@ -41,7 +41,7 @@ void render_run(const PathTracer& tracer, const FrameSpec& spec, const CameraRay
         for (int i = 0; i < n; ++i)
             if (k < samples[i])
                 sum[i] += glm::dvec3(
-                    tracer.trace_from(rays[i], {found[i], found_hit[i]}, sampler[i], counters));
+                    tracer.trace(rays[i], {found[i], found_hit[i]}, sampler[i], counters));
     }
     if (hits) {
         for (int i = 0; i < n; ++i)

@@ -134,12 +134,6 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     return true;
 }
 
-FirstHit PathTracer::first_hit(const Ray& ray, SampleCounters& counters) const {
-    KnownHit first;
-    first.found = kernel_.intersect(ray, first.hit);
-    return first_hit(ray, first, counters);
-}
-
 FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
                                SampleCounters& counters) const {
     ++counters.rays;
@@ -160,7 +154,7 @@ FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
 }
 
 template <uint32_t kFeatures>
-Rgb PathTracer::trace_with(Ray ray, const KnownHit* first, PixelSampler& sampler,
+Rgb PathTracer::trace_with(Ray ray, const KnownHit& first, PixelSampler& sampler,
                            SampleCounters& counters) const {
     constexpr bool kEmitters = kFeatures & kFeatureEmitters;
     constexpr bool kEnvironment = kFeatures & kFeatureEnvironment;
@@ -172,9 +166,9 @@ Rgb PathTracer::trace_with(Ray ray, const KnownHit* first, PixelSampler& sampler
         Hit hit;
         ++counters.rays;
         bool found;
-        if (depth == 0 && first) {
-            found = first->found;
-            hit = first->hit;
+        if (depth == 0) {
+            found = first.found;
+            hit = first.hit;
         } else {
             found = kernel_.intersect(ray, hit);
         }

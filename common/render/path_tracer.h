@@ -81,34 +81,30 @@ public:
     PathTracer(const ShadingScene& shading, const LightSampler& lights, const Intersector& kernel,
                const IntegratorSettings& settings);
 
-    // Radiance along a camera ray. A non-finite estimate is counted and returned as zero.
-    Rgb trace(Ray ray, PixelSampler& sampler, SampleCounters& counters) const {
-        return (this->*trace_)(ray, nullptr, sampler, counters);
-    }
     // A camera ray's closest hit, found beforehand (a packet of neighbouring pixels' rays:
-    // Intersector::intersect_coherent).
+    // Intersector::intersect_coherent, which the frame loop calls through kernel()).
     struct KnownHit {
         bool found = false;
         Hit hit;
     };
-    // trace() of a ray whose closest hit is `first`.
-    Rgb trace_from(const Ray& ray, const KnownHit& first, PixelSampler& sampler,
-                   SampleCounters& counters) const {
-        return (this->*trace_)(ray, &first, sampler, counters);
+    // Radiance along a camera ray whose closest hit is `first`. A non-finite estimate is
+    // counted and returned as zero.
+    Rgb trace(const Ray& ray, const KnownHit& first, PixelSampler& sampler,
+              SampleCounters& counters) const {
+        return (this->*trace_)(ray, first, sampler, counters);
     }
-    // What `ray` meets first: its distance, instance, shading normal facing the ray (as the
-    // normal map bends it), base colour and whether a denoiser must keep it sharp (an emitter,
-    // transmission, or metal smoother than kSharpMaxAlpha). One closest-hit ray, counted.
-    FirstHit first_hit(const Ray& ray, SampleCounters& counters) const;
-    // first_hit() of a ray whose closest hit is `first`.
+    // What `ray`, whose closest hit is `first`, meets first: its distance, instance, shading
+    // normal facing the ray (as the normal map bends it), base colour and whether a denoiser
+    // must keep it sharp (an emitter, transmission, or metal smoother than kSharpMaxAlpha).
+    // Counted as one closest-hit ray.
     FirstHit first_hit(const Ray& ray, const KnownHit& first, SampleCounters& counters) const;
     uint32_t features() const { return features_; }  // of the loop in use
     const Intersector& kernel() const { return kernel_; }
 
 private:
-    using TraceFn = Rgb (PathTracer::*)(Ray, const KnownHit*, PixelSampler&, SampleCounters&) const;
+    using TraceFn = Rgb (PathTracer::*)(Ray, const KnownHit&, PixelSampler&, SampleCounters&) const;
     template <uint32_t kFeatures>
-    Rgb trace_with(Ray ray, const KnownHit* first, PixelSampler& sampler,
+    Rgb trace_with(Ray ray, const KnownHit& first, PixelSampler& sampler,
                    SampleCounters& counters) const;
 
     // Where next-event estimation happens: sigma_a is the absorption of the medium the path

@@ -79,7 +79,7 @@ public:
     // The same sampler from its pixel's hash, which every sample of the pixel shares.
     PixelSampler(uint32_t pixel_hash, uint32_t sample)
         : pixel_hash_(pixel_hash), reversed_sample_(reverse_bits(sample)) {}
-    PixelSampler() : PixelSampler(0u, 0u) {}  // a placeholder until assigned
+    PixelSampler() : PixelSampler(0u, 0u) {}  // for arrays whose entries are assigned
     static uint32_t pixel_hash(uint32_t x, uint32_t y, uint32_t frame, uint32_t seed) {
         return pf_hash_words4(x, y, frame, seed);
     }
