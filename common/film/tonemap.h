@@ -12,4 +12,11 @@ namespace pathfarm {
 // 8-bit sRGB RGB bytes, row 0 at the top.
 std::vector<uint8_t> tonemap_to_srgb8(const FloatImage& image, float exposure = 1.0f);
 
+// One channel of the above: a linear value (non-finite counts as 0) to its 8-bit code.
+uint8_t tonemap_channel(float linear, float exposure = 1.0f);
+// The 8-bit code of a display value in [0, 1] (the ACES fit's output): srgb8_code finds it
+// from a table of thresholds, srgb8_reference by its definition, round(255 * sRGB(display)).
+uint8_t srgb8_code(float display);
+int srgb8_reference(float display);
+
 }  // namespace pathfarm
