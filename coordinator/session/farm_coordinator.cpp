@@ -236,6 +236,12 @@ void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {
 // The slowest tracer's render time is the part of the frame that scales with the quality.
 void Farm::observe_frame_time(double frame_ms, const FrameOutcome& outcome) {
     if (!scaler_) return;
+    // A replica built from a snapshot (a tracer's first frame, or one that fell behind) costs
+    // its tracer a scene build once (30-40 ms at builtin:default): learnt as the fixed part of
+    // every frame, it sent the first frames to the quality floor for ten frames or more.
+    if (std::any_of(outcome.tracers.begin(), outcome.tracers.end(),
+                    [](const TracerFrameStats& t) { return t.from_snapshot; }))
+        return;
     const bool was_at_floor = scaler_->at_floor();
     double render_ms = 0.0;
     for (const TracerFrameStats& t : outcome.tracers)

@@ -85,6 +85,7 @@ void TracerPool::sync(Tracer& t, const FrameCommit& commit,
     for (const std::string& m : *messages)
         t.session->send(m);
     t.replica_commit = work_.frame;
+    t.from_snapshot = !current;
     t.assigned.clear();
     t.render_ms = 0.0;
     t.update_ms = 0.0;
@@ -174,6 +175,7 @@ void TracerPool::on_tile(uint64_t id, const std::string& bytes) {
 
 std::vector<RowRange> TracerPool::missing_of(const Tracer& t) const {
     std::vector<RowRange> out;
+    if (!assembler_) return out;  // between frames nothing is owed
     for (const RowRange& r : t.assigned)
         for (const RowRange& m : assembler_->missing(r))
             out.push_back(m);
@@ -206,8 +208,7 @@ void TracerPool::on_closed(uint64_t id) {
     const auto it = tracers_.find(id);
     if (it == tracers_.end()) return;
     spdlog::warn("tracer \"{}\" left", it->second.name);
-    const std::vector<RowRange> lost =
-        assembler_ ? missing_of(it->second) : std::vector<RowRange>{};
+    const std::vector<RowRange> lost = missing_of(it->second);
     tracers_.erase(it);
     reissue(lost, false);  // its rows that never arrived go to the others now
     cv_.notify_all();
@@ -293,14 +294,17 @@ void TracerPool::drop_silent() {
 
 FrameOutcome TracerPool::finish() {
     std::lock_guard lock(mutex_);
-    FrameOutcome out{assembler_->image(), assembler_->first_hits(), 0.0, tile_bytes_, {}, units_};
+    FrameOutcome out{
+        assembler_->take_image(), assembler_->take_first_hits(), 0.0, tile_bytes_, {}, units_};
+    assembler_.reset();  // the frame is closed: its late tiles find none open
     last_unit_cost_ = unit_cost_map(units_);
     std::vector<double> busy;
     for (auto& [id, t] : tracers_) {
         if (t.replica_commit != work_.frame || t.render_ms <= 0.0) continue;
         busy.push_back(t.render_ms);
         out.tracers.push_back({t.name, t.first_assignment, t.render_ms,
-                               delivered_rows(units_, id, work_.height), t.update_ms});
+                               delivered_rows(units_, id, work_.height), t.update_ms,
+                               t.from_snapshot});
         t.measured_frame = work_.frame;
         t.measured = tracer_feedback(t.first_assignment, t.render_ms,
                                      delivered_cost(units_, last_unit_cost_, id));

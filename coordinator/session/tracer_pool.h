@@ -61,7 +61,8 @@ struct TracerFrameStats {
     RowRange first_range;
     double render_ms = 0.0;
     int rows_delivered = 0;
-    double update_ms = 0.0;  // replica and backend update before rendering
+    double update_ms = 0.0;      // replica and backend update before rendering
+    bool from_snapshot = false;  // its replica was rebuilt from a snapshot for this frame
 };
 
 // What a finished frame leaves: its image and the tracers' accounting.
@@ -114,6 +115,7 @@ private:
         RowRange first_assignment;
         double render_ms = 0.0;                     // this frame, from its tiles
         double update_ms = 0.0;                     // this frame's update, from its tiles
+        bool from_snapshot = false;                 // this frame's replica: from a snapshot
         int tile_rows = 0;                          // rows of those tiles
         Clock::time_point news_at;                  // its last tile or assignment
         std::optional<Clock::time_point> stole_at;  // when it last took rows (for the log)

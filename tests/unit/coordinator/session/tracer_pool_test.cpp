@@ -227,6 +227,36 @@ TEST_F(TracerPoolTest, ReplicasAtThePreviousCommitGetTheCommitOthersASnapshot) {
     EXPECT_EQ(snapshots_, 2);
 }
 
+// The workload scaler does not learn from a frame whose replica was built from a snapshot (a
+// one-time scene build); the outcome says which were. A tile arriving after its frame closed
+// is dropped: the finished frame's buffers have moved on to the display.
+TEST_F(TracerPoolTest, OutcomesSayWhichReplicasCameFromASnapshotAndLateTilesAreDropped) {
+    start("none", std::chrono::seconds(10), 1);
+    begin(0, 8);
+    wait([&] { sessions_[0]->deliver(tile(0, 0, 8, 1.0f)); });
+    const FrameOutcome first = pool_->finish();
+    ASSERT_EQ(first.tracers.size(), 1u);
+    EXPECT_TRUE(first.tracers[0].from_snapshot) << "frame 0: built from a snapshot";
+    ASSERT_EQ(first.image.rgb.size(), std::size_t(kWidth) * 8 * 3);
+    EXPECT_EQ(first.image.rgb[5], 1.0f);
+    sessions_[0]->deliver(tile(0, 0, 8, 2.0f));  // frame 0 again, after it closed
+    EXPECT_TRUE(sessions_[0]->open()) << "a late tile is not malformed";
+    auto late = std::make_shared<MemorySession>(9, "late");
+    pool_->add(late);
+    begin(1, 8);
+    const auto result = wait([&] {
+        sessions_[0]->deliver(tile(1, 0, 4, 3.0f));
+        late->deliver(tile(1, 4, 8, 4.0f));
+    });
+    ASSERT_EQ(result, TracerPool::Wait::complete);
+    const FrameOutcome second = pool_->finish();
+    ASSERT_EQ(second.tracers.size(), 2u);
+    for (const TracerFrameStats& t : second.tracers)
+        EXPECT_EQ(t.from_snapshot, t.name == "late") << t.name;
+    EXPECT_EQ(second.image.rgb[5], 3.0f);
+    EXPECT_EQ(second.image.rgb.back(), 4.0f);
+}
+
 TEST_F(TracerPoolTest, MalformedAndMisfitTilesAreRefused) {
     start("none", std::chrono::seconds(10));
     begin(0, 16);
