@@ -236,17 +236,17 @@ void Farm::begin_frame(uint64_t frame, const PreparedFrame& p, bool render) {
 // The slowest tracer's render time is the part of the frame that scales with the quality.
 void Farm::observe_frame_time(double frame_ms, const FrameOutcome& outcome) {
     if (!scaler_) return;
+    const bool was_at_floor = scaler_->at_floor();
     // A replica built from a snapshot (a tracer's first frame, or one that fell behind) costs
     // its tracer a scene build once (30-40 ms at builtin:default): learnt as the fixed part of
-    // every frame, it sent the first frames to the quality floor for ten frames or more.
-    if (std::any_of(outcome.tracers.begin(), outcome.tracers.end(),
-                    [](const TracerFrameStats& t) { return t.from_snapshot; }))
-        return;
-    const bool was_at_floor = scaler_->at_floor();
-    double render_ms = 0.0;
-    for (const TracerFrameStats& t : outcome.tracers)
+    // every frame, it sent the first frames to the quality floor for ten frames or more. The
+    // render time still says how fast the farm renders.
+    double render_ms = 0.0, one_time_ms = 0.0;
+    for (const TracerFrameStats& t : outcome.tracers) {
         render_ms = std::max(render_ms, t.render_ms);
-    scaler_->observe(frame_ms, render_ms);
+        if (t.from_snapshot) one_time_ms = std::max(one_time_ms, t.update_ms);
+    }
+    scaler_->observe(std::max(render_ms, frame_ms - one_time_ms), render_ms);
     if (scaler_->at_floor() && !was_at_floor)
         spdlog::warn(
             "workload scaling: at the quality floor ({} spp, roulette {}, {:.0f}% size) and "
