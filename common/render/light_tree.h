@@ -116,6 +116,8 @@ private:
     void splice(const Units& units, uint32_t cluster);
     uint32_t collapse(uint32_t node, int depth, uint64_t trail);
     void collapse_all();
+    void refill_wide();  // the wide nodes' bounds from the binary nodes', topology kept
+    static void fill_slot(WideNode& w, int k, const PackedLightBounds& s);
     void set_leaf(std::size_t node, std::span<const LightBounds> emitters);
     // The pair e, e + 1's shares of their leaf, by power.
     void set_shares(uint32_t e, std::span<const LightBounds> emitters);
@@ -124,6 +126,7 @@ private:
     std::vector<Node> nodes_;
     std::vector<LightBounds> full_;  // per node, with the box (for refit and cost)
     std::vector<WideNode> wide_;
+    static constexpr uint32_t kNoSource = ~0u;               // an unused slot
     std::vector<std::array<uint32_t, kWidth>> wide_source_;  // the binary node in each slot
     std::vector<uint64_t> trail_;
     std::vector<uint8_t> depth_;

@@ -328,7 +328,7 @@ void LightTree::refit(std::span<const LightBounds> emitters) {
         else
             set_bounds(i, union_bounds(full_[i + 1], full_[child]));
     }
-    collapse_all();
+    refill_wide();
 }
 
 void LightTree::set_leaf(std::size_t i, std::span<const LightBounds> emitters) {

@@ -4,6 +4,7 @@
 // emitter that can light a receiver has probability zero (that would bias next-event
 // estimation), and a refit keeps every lit emitter inside its ancestors' boxes and cones.
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -179,8 +180,17 @@ TEST(LightTree, SamplingFrequenciesFollowThePmf) {
     }
 }
 
+// What the descent reads in a wide node's slot is its binary node's bounds, packed (the flags'
+// container bits aside): after a build, and after a refit that only refills the slots.
+bool slot_holds(const LightTree::WideNode& w, int slot, const LightBounds& b) {
+    PackedLightBounds seen = slot_bounds(w, slot), want = pack(b);
+    seen.flags &= kPackedTwoSided;
+    want.flags &= kPackedTwoSided;
+    return std::memcmp(&seen, &want, sizeof(seen)) == 0;
+}
+
 // Every emitter's path from the wide root (its trail) ends at its own leaf, and every slot on
-// the way bounds it: box, cone and power.
+// the way bounds it: box, cone and power; the slots hold those bounds.
 void expect_ancestors_bound(const LightTree& tree, const std::vector<Emitter>& emitters,
                             uint32_t seed) {
     for (uint32_t e = 0; e < emitters.size(); ++e) {
@@ -200,6 +210,8 @@ void expect_ancestors_bound(const LightTree& tree, const std::vector<Emitter>& e
                 EXPECT_TRUE(b.two_sided || !own.two_sided);
             }
             const LightTree::WideNode& w = tree.wide_nodes()[node];
+            EXPECT_TRUE(slot_holds(w, slot, b))
+                << "seed " << seed << " emitter " << e << ": stale wide slot at depth " << d;
             if (w.flags[slot] & LightTree::kLeaf) {
                 const uint32_t held = w.child[slot];
                 const bool pair = (w.flags[slot] & LightTree::kPair) != 0;
@@ -221,6 +233,8 @@ TEST(LightTree, RefitKeepsEveryEmitterInsideItsAncestors) {
         const double built = tree.cost();
         tree.refit(bounds_of(emitters));
         EXPECT_NEAR(tree.cost(), built, 1e-6 * built) << "a refit in place changes nothing";
+        const std::vector<LightTree::WideNode> before_moves = tree.wide_nodes();
+        const std::vector<LightBounds> unmoved = bounds_of(emitters);
         // Move, turn and switch: lights on and off, some far away.
         std::mt19937 rng(seed);
         std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -240,6 +254,12 @@ TEST(LightTree, RefitKeepsEveryEmitterInsideItsAncestors) {
         for (uint32_t e = 0; e < emitters.size(); ++e)
             sum += tree.pmf(p, n, e);
         EXPECT_NEAR(sum, 1.0, 1e-4) << "seed " << seed;
+        tree.refit(unmoved);  // back where they were: the same wide nodes, bit for bit
+        ASSERT_EQ(tree.wide_nodes().size(), before_moves.size());
+        EXPECT_EQ(std::memcmp(tree.wide_nodes().data(), before_moves.data(),
+                              before_moves.size() * sizeof(LightTree::WideNode)),
+                  0)
+            << "seed " << seed;
     }
 }
 

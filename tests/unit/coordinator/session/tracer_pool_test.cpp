@@ -227,8 +227,8 @@ TEST_F(TracerPoolTest, ReplicasAtThePreviousCommitGetTheCommitOthersASnapshot) {
     EXPECT_EQ(snapshots_, 2);
 }
 
-// The workload scaler does not learn from a frame whose replica was built from a snapshot (a
-// one-time scene build); the outcome says which were. A tile arriving after its frame closed
+// The workload scaler leaves a snapshot's one-time scene build out of what it learns from a
+// frame; the outcome says which replicas came from one. A tile arriving after its frame closed
 // is dropped: the finished frame's buffers have moved on to the display.
 TEST_F(TracerPoolTest, OutcomesSayWhichReplicasCameFromASnapshotAndLateTilesAreDropped) {
     start("none", std::chrono::seconds(10), 1);
