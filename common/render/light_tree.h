@@ -100,7 +100,8 @@ public:
     // Per emitter, the probability of choosing it once its leaf is chosen (1 unless paired).
     const std::vector<float>& leaf_shares() const { return share_; }
     LightBounds bounds(std::size_t node) const;
-    // The full bounds behind a wide node's slot.
+    // The full bounds behind a wide node's slot; only for a slot in use (one on an emitter's
+    // trail): an unused slot has no binary node behind it.
     LightBounds bounds(std::size_t wide_node, int slot) const;
 
     // Below a node whose bounding sphere subtends less than this (sin^2 of the half-angle) and
