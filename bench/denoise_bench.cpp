@@ -21,7 +21,8 @@
 // (`targeted`: where history is short, as the farm plans them from the history two frames
 // back, coordinator/pacing/extra_samples.h; `dither`: spread evenly) and whether converging
 // weighs a pixel by its samples (`weighted`, as the farm does) or counts every frame as one
-// (`unweighted`).
+// (`unweighted`), and the far side of silhouettes' weight (EdgeCoverageOptions::model_frames, 3;
+// 0: off).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -241,7 +242,8 @@ int main(int argc, char** argv) {
     if (argc < 5) {
         std::fprintf(stderr,
                      "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
-                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L] [TAA_ALPHA]\n");
+                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L] [TAA_ALPHA] [EXTRA] "
+                     "[targeted|dither] [weighted|unweighted] [EDGE_FRAMES]\n");
         return 2;
     }
     init_logging("denoise-bench", "warn");
@@ -259,6 +261,7 @@ int main(int argc, char** argv) {
     if (argc > 12) a.extra = std::atof(argv[12]);
     if (argc > 13) a.targeted = std::string(argv[13]) != "dither";
     if (argc > 14) a.weigh = std::string(argv[14]) != "unweighted";
+    if (argc > 15) a.denoise.edges.model_frames = float(std::atof(argv[15]));
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);

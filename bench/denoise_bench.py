@@ -31,7 +31,8 @@ METHODS = ["raw", "converging", "denoised"]
 
 def run_path(a, path, strips):
     cmd = [f"{a.build}/bench/pathfarm-denoise-bench", path, a.scenes, a.cache, strips, str(a.frames),
-           str(a.ref_spp), str(a.strip_frame), str(a.radius), str(a.levels), str(a.sigma_l)]
+           str(a.ref_spp), str(a.strip_frame), str(a.radius), str(a.levels), str(a.sigma_l),
+           str(a.taa_alpha), "0", "targeted", "weighted", str(a.edge_frames)]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     return list(csv.DictReader(out.splitlines()))
 
@@ -108,6 +109,9 @@ def main():
     p.add_argument("--radius", type=int, default=1, help="the wavelet's kernel radius (2: SVGF's 5x5)")
     p.add_argument("--levels", type=int, default=5)
     p.add_argument("--sigma-l", type=float, default=8.0, help="the luminance edge's sigma (SVGF: 4)")
+    p.add_argument("--taa-alpha", type=float, default=0.3, help="the temporal anti-aliasing's blend (0: off)")
+    p.add_argument("--edge-frames", type=float, default=3.0,
+                   help="the far side of silhouettes' weight, in frames of history (0: off)")
     p.add_argument("--tag", default="", help="suffix of the output files (variants side by side)")
     p.add_argument("--cost-rounds", type=int, default=3, help="rounds of the cost measurement (0: none)")
     a = p.parse_args()

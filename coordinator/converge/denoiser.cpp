@@ -154,6 +154,14 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
             for (int c = 0; c < 3; ++c)
                 image.rgb[3 * i + c] /= albedo_[i][c];
     });
+    if (temporal && o_.edges.model_frames > 0.0f) {
+        // Hit pixels the filter leaves alone are sharp or beside a sharp one: they keep their
+        // light on edges too. The sky is a surface of its own (instance 0).
+        keep_.resize(g.instance.size());
+        for (std::size_t i = 0; i < keep_.size(); ++i)
+            keep_[i] = uint8_t(g.hit(i) & !filter_mask_[i]);
+        edges_.set_surfaces(g.instance, g.distance, keep_, w, h);
+    }
     if (temporal) {
         // The accumulator keeps the view, G-buffer and all, for the next frame's reprojection.
         stats = accumulator_.blend(image, std::move(view));
@@ -175,6 +183,8 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
             for (int c = 0; c < 3; ++c)
                 image.rgb[3 * i + c] *= albedo_[i][c];
     });
+    if (temporal && o_.edges.model_frames > 0.0f)
+        edges_.apply(image, accumulator_.history_frames());
     if (temporal && o_.taa_alpha > 0.0f) taa_.apply(image, accumulator_.sources());
     output_ = image;
     return stats;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "coordinator/converge/atrous.h"
+#include "coordinator/converge/edge_coverage.h"
 #include "coordinator/converge/temporal_aa.h"
 #include "coordinator/converge/temporal_accumulator.h"
 
@@ -29,12 +30,19 @@ struct DenoiseOptions {
     // denoise_bench, relative MSE over converging's at 0 / 0.15 / 0.3 / 0.5: Sponza walk 0.201 /
     // 0.138 / 0.137 / 0.146, game path 0.128 / 0.121 / 0.103 / 0.101.
     float taa_alpha = 0.3f;
+    // Edge pixels with short history towards the two sides' mix (edge_coverage.h), on the
+    // temporal path.
+    EdgeCoverageOptions edges;
 };
 
 class Denoiser {
 public:
     explicit Denoiser(DenoiseOptions options = {}, ConvergeOptions converge = {})
-        : o_(options), accumulator_(converge), atrous_(options.atrous), taa_(options.taa_alpha) {}
+        : o_(options),
+          accumulator_(converge),
+          atrous_(options.atrous),
+          taa_(options.taa_alpha),
+          edges_(options.edges) {}
 
     // Denoises `image` (the frame at the G-buffer's resolution) in place. `temporal`: with
     // the history of earlier frames (the farm converging); otherwise this frame alone. Returns
@@ -57,9 +65,10 @@ private:
     TemporalAccumulator accumulator_;
     AtrousFilter atrous_;
     TemporalAntialias taa_;
+    EdgeCoverage edges_;
     FloatImage output_;
     // Per-frame planes, kept to spare the allocations.
-    std::vector<uint8_t> filter_mask_, near_sharp_;
+    std::vector<uint8_t> filter_mask_, near_sharp_, keep_;
     std::vector<Rgb> albedo_, albedo_tmp_;
     std::vector<Vec2> moments_;
     std::vector<float> variance_, m1_, m2_, tmp_;
