@@ -3,30 +3,31 @@
 #include "coordinator/converge/edge_coverage.h"
 
 #include <algorithm>
-#include <utility>
 
 #include "coordinator/converge/parallel_rows.h"
 
 namespace pathfarm::coord {
 namespace {
 
-// One row of the surfaces and distances with the rows above and below, and the row's outputs.
-struct Rows {
-    const uint32_t *s, *s_up, *s_down;
-    const float *d, *d_up, *d_down;
-    uint8_t *across, *behind, *on_edge;
-};
-
-// Pixel x of the row, its left and right neighbours at `left` and `right`.
-inline void classify(const Rows& r, int x, int left, int right) {
-    const uint32_t s = r.s[x];
-    const float d = r.d[x];
-    const bool o0 = r.s_up[x] != s, o1 = r.s_down[x] != s, o2 = r.s[left] != s,
-               o3 = r.s[right] != s;
-    r.across[x] = uint8_t(int(o0) + int(o1) + int(o2) + int(o3));
-    r.behind[x] = uint8_t((o0 & (r.d_up[x] < d)) | (o1 & (r.d_down[x] < d)) |
-                          (o2 & (r.d[left] < d)) | (o3 & (r.d[right] < d)));
-    r.on_edge[x] = uint8_t(o0 | o1 | o2 | o3);
+// Pixels [begin, end) of one row: how many of their 4-neighbours see another surface, whether
+// one of those is nearer, whether any is. `left` and `right` offset the horizontal neighbours
+// (0 at the image's border, which is replicated). Restrict pointers and no branches: it
+// vectorises.
+void classify(const uint32_t* __restrict s, const uint32_t* __restrict s_up,
+              const uint32_t* __restrict s_down, const float* __restrict d,
+              const float* __restrict d_up, const float* __restrict d_down,
+              uint8_t* __restrict across, uint8_t* __restrict behind, uint8_t* __restrict on_edge,
+              int begin, int end, int left, int right) {
+    for (int x = begin; x < end; ++x) {
+        const uint32_t here = s[x];
+        const float depth = d[x];
+        const int o0 = s_up[x] != here, o1 = s_down[x] != here, o2 = s[x + left] != here,
+                  o3 = s[x + right] != here;
+        across[x] = uint8_t(o0 + o1 + o2 + o3);
+        behind[x] = uint8_t((o0 & int(d_up[x] < depth)) | (o1 & int(d_down[x] < depth)) |
+                            (o2 & int(d[x + left] < depth)) | (o3 & int(d[x + right] < depth)));
+        on_edge[x] = uint8_t(o0 | o1 | o2 | o3);
+    }
 }
 
 float luminance_at(const FloatImage& image, std::size_t i) {
@@ -52,13 +53,15 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
         const std::size_t row = std::size_t(y) * width;
         const std::size_t up = std::size_t(std::max(0, y - 1)) * width,
                           down = std::size_t(std::min(height - 1, y + 1)) * width;
-        const Rows r{&surface_[row],  &surface_[up],  &surface_[down],
-                     &distance_[row], &distance_[up], &distance_[down],
-                     &across_[row],   &behind_[row],  &on_edge_[row]};
-        classify(r, 0, 0, std::min(1, width - 1));
-        for (int x = 1; x + 1 < width; ++x)  // no clamps: it vectorises
-            classify(r, x, x - 1, x + 1);
-        if (width > 1) classify(r, width - 1, width - 2, width - 1);
+        const auto run = [&](int begin, int end, int left, int right) {
+            classify(&surface_[row], &surface_[up], &surface_[down], &distance_[row],
+                     &distance_[up], &distance_[down], &across_[row], &behind_[row], &on_edge_[row],
+                     begin, end, left, right);
+        };
+        if (width == 1) return run(0, 1, 0, 0);
+        run(0, 1, 0, 1);
+        run(1, width - 1, -1, 1);
+        run(width - 1, width, -1, 0);
     });
     edges_.clear();
     for (std::size_t i = 0; i < n; ++i)
@@ -73,31 +76,37 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
 bool EdgeCoverage::sides(const FloatImage& image, std::size_t i, Rgb& behind, Rgb& front) const {
     const int x = int(i % std::size_t(width_)), y = int(i / std::size_t(width_));
     // [side][0: interior of the 5x5, 1: any of the 3x3]
-    std::pair<float, uint32_t> found[2][2][24];
+    struct Entry {
+        float luminance;
+        uint32_t pixel;
+    };
+    Entry found[2][2][24];  // not initialised: only the first count[side][set] are read
     int count[2][2] = {};
-    for (int dy = -2; dy <= 2; ++dy)
-        for (int dx = -2; dx <= 2; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width_ || ny >= height_) continue;
-            const std::size_t j = std::size_t(ny) * width_ + nx;
+    const int x0 = std::max(0, x - 2), x1 = std::min(width_ - 1, x + 2);
+    for (int ny = std::max(0, y - 2); ny <= std::min(height_ - 1, y + 2); ++ny) {
+        const std::size_t row = std::size_t(ny) * width_;
+        for (int nx = x0; nx <= x1; ++nx) {
+            const std::size_t j = row + std::size_t(nx);
             const bool own = surface_[j] == surface_[i];
-            if (keep_[j] || (!own && !(distance_[j] < distance_[i]))) continue;
-            const bool near = dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1;
-            if (!on_edge_[j] || near) {
-                const std::pair<float, uint32_t> entry{luminance_at(image, j), uint32_t(j)};
-                const int side = own ? 0 : 1;
-                if (!on_edge_[j]) found[side][0][count[side][0]++] = entry;
-                if (near) found[side][1][count[side][1]++] = entry;
-            }
+            if (j == i || keep_[j] || (!own && !(distance_[j] < distance_[i]))) continue;
+            const bool near = std::abs(nx - x) <= 1 && std::abs(ny - y) <= 1;
+            const int side = own ? 0 : 1;
+            const Entry entry{luminance_at(image, j), uint32_t(j)};
+            if (!on_edge_[j]) found[side][0][count[side][0]++] = entry;
+            if (near) found[side][1][count[side][1]++] = entry;
         }
+    }
     Rgb* out[2] = {&behind, &front};
     for (int side = 0; side < 2; ++side) {
         const int set = count[side][0] > 0 ? 0 : 1;
         const int n = count[side][set];
         if (n == 0) return false;
         auto* f = found[side][set];
-        std::nth_element(f, f + n / 2, f + n);
-        const std::size_t j = f[n / 2].second;
+        // Ties broken by the pixel's index: the same choice on every run.
+        std::nth_element(f, f + n / 2, f + n, [](const Entry& a, const Entry& b) {
+            return a.luminance < b.luminance || (a.luminance == b.luminance && a.pixel < b.pixel);
+        });
+        const std::size_t j = f[n / 2].pixel;
         *out[side] = Rgb(image.rgb[3 * j], image.rgb[3 * j + 1], image.rgb[3 * j + 2]);
     }
     return true;
@@ -120,15 +129,22 @@ void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames) {
     if (o_.model_frames <= 0.0f || image.width != width_ || image.height != height_ ||
         frames.size() != surface_.size())
         return;
-    blended_.resize(edges_.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edges_.size(), 64),
+    // Pixels whose history would leave the mix less than 1/16 of the weight are left as they
+    // are: a still view's edges cost nothing once converged.
+    const float most_frames = 15.0f * o_.model_frames;
+    todo_.clear();
+    for (const uint32_t i : edges_)
+        if (frames[i] <= most_frames) todo_.push_back(i);
+    if (todo_.empty()) return;
+    blended_.resize(todo_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo_.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t e = range.begin(); e < range.end(); ++e)
-                              blended_[e] = blended(image, edges_[e], frames[edges_[e]]);
+                              blended_[e] = blended(image, todo_[e], frames[todo_[e]]);
                       });
-    for (std::size_t e = 0; e < edges_.size(); ++e)
+    for (std::size_t e = 0; e < todo_.size(); ++e)
         for (int c = 0; c < 3; ++c)
-            image.rgb[3 * std::size_t(edges_[e]) + c] = blended_[e][c];
+            image.rgb[3 * std::size_t(todo_[e]) + c] = blended_[e][c];
 }
 
 }  // namespace pathfarm::coord

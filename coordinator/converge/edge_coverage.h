@@ -60,6 +60,7 @@ private:
     std::vector<uint8_t> across_;   // how many 4-neighbours do
     std::vector<uint8_t> behind_;   // one of them is nearer the camera
     std::vector<uint32_t> edges_;   // the edge pixels apply() blends, in order
+    std::vector<uint32_t> todo_;    // those of them with short enough history
     std::vector<Rgb> blended_;      // their new values, before they are written
 };
 
