@@ -30,8 +30,8 @@ struct DenoiseOptions {
     // denoise_bench, relative MSE over converging's at 0 / 0.15 / 0.3 / 0.5: Sponza walk 0.201 /
     // 0.138 / 0.137 / 0.146, game path 0.128 / 0.121 / 0.103 / 0.101.
     float taa_alpha = 0.3f;
-    // Edge pixels with short history towards the two sides' mix (edge_coverage.h), on the
-    // temporal path.
+    // The far side of silhouettes, where history is short (edge_coverage.h), on the temporal
+    // path.
     EdgeCoverageOptions edges;
 };
 

@@ -14,8 +14,9 @@
 //
 // Only the far side: a pixel whose centre sees the object and whose sample saw the background
 // often holds less of the object than its centre says (a limb a pixel wide), and pulling it
-// towards the object's light made Cesium Man's error 16 % worse where this rule cut it 12 %
-// (denoise_bench, docs/denoise.md "Edges", which also has the measured c and m).
+// towards the object's light made Cesium Man's error 16 % worse where this rule cuts it 12 %
+// (denoise_bench; docs/denoise.md, step 6 and "The far side of silhouettes", which also has
+// the measured c and m).
 #pragma once
 
 #include <cstdint>
@@ -40,12 +41,10 @@ public:
     void set_surfaces(const std::vector<uint32_t>& surface, const std::vector<float>& distance,
                       const std::vector<uint8_t>& keep, int width, int height);
     // Blends the far-side edge pixels of `image` (the frame's output, the surfaces' size) whose
-    // light looks like the near side's towards the mix; `frames[i]`: pixel i's history in
+    // light looks like the front surface's towards the mix; `frames[i]`: pixel i's history in
     // frames (>= 1).
     void apply(FloatImage& image, const std::vector<float>& frames);
     const EdgeCoverageOptions& options() const { return o_; }
-    // The pixels apply() may change: far-side edge pixels not kept (for tests).
-    const std::vector<uint32_t>& edge_pixels() const { return edges_; }
 
 private:
     bool sides(const FloatImage& image, std::size_t i, Rgb& behind, Rgb& front) const;
@@ -59,7 +58,7 @@ private:
     std::vector<uint8_t> on_edge_;  // a 4-neighbour sees another surface
     std::vector<uint8_t> across_;   // how many 4-neighbours do
     std::vector<uint8_t> behind_;   // one of them is nearer the camera
-    std::vector<uint32_t> edges_;   // the edge pixels apply() blends, in order
+    std::vector<uint32_t> edges_;   // far-side edge pixels not kept, in order
     std::vector<uint32_t> todo_;    // those of them with short enough history
     std::vector<Rgb> blended_;      // their new values, before they are written
 };
