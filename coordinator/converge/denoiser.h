@@ -3,8 +3,9 @@
 // with the converging reprojection (TemporalAccumulator, with the first two moments of its
 // luminance), given a per-pixel variance (temporal where the history is long, spatial where it is
 // short), filtered by the edge-avoiding à-trous wavelet (atrous.h), multiplied by the base
-// colour again and, over frames, blended with its last output where surfaces stood still
-// (temporal anti-aliasing, temporal_aa.h).
+// colour again and, over frames, given the mix of both sides on the far side of silhouettes
+// where history is short (edge_coverage.h) and blended with its last output where surfaces
+// stood still (temporal anti-aliasing, temporal_aa.h).
 //
 // What stays sharp, per pixel: a pixel the tracers flagged sharp (an emitter seen directly, a
 // mirror-like metal, glass: FirstHit::kSharp), the pixels next to one (their other samples
