@@ -159,7 +159,7 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
         // light on edges too. The sky is a surface of its own (instance 0).
         keep_.resize(g.instance.size());
         for (std::size_t i = 0; i < keep_.size(); ++i)
-            keep_[i] = uint8_t(g.hit(i) & !filter_mask_[i]);
+            keep_[i] = uint8_t(g.hit(i) && filter_mask_[i] == 0);
         edges_.set_surfaces(g.instance, g.distance, keep_, w, h);
     }
     if (temporal) {
