@@ -154,14 +154,8 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
             for (int c = 0; c < 3; ++c)
                 image.rgb[3 * i + c] /= albedo_[i][c];
     });
-    if (temporal && o_.edges.model_frames > 0.0f) {
-        // Hit pixels the filter leaves alone are sharp or beside a sharp one: they keep their
-        // light on edges too. The sky is a surface of its own (instance 0).
-        keep_.resize(g.instance.size());
-        for (std::size_t i = 0; i < keep_.size(); ++i)
-            keep_[i] = uint8_t(g.hit(i) && filter_mask_[i] == 0);
-        edges_.set_surfaces(g.instance, g.distance, keep_, w, h);
-    }
+    if (temporal && o_.edges.model_frames > 0.0f)  // before the accumulator takes the view
+        edges_.set_surfaces(g.instance, g.distance, filter_mask_, w, h);
     if (temporal) {
         // The accumulator keeps the view, G-buffer and all, for the next frame's reprojection.
         stats = accumulator_.blend(image, std::move(view));

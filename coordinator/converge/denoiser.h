@@ -69,7 +69,7 @@ private:
     EdgeCoverage edges_;
     FloatImage output_;
     // Per-frame planes, kept to spare the allocations.
-    std::vector<uint8_t> filter_mask_, near_sharp_, keep_;
+    std::vector<uint8_t> filter_mask_, near_sharp_;
     std::vector<Rgb> albedo_, albedo_tmp_;
     std::vector<Vec2> moments_;
     std::vector<float> variance_, m1_, m2_, tmp_;

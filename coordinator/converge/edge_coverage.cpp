@@ -30,21 +30,17 @@ void classify(const uint32_t* __restrict s, const uint32_t* __restrict s_up,
     }
 }
 
-float luminance_at(const FloatImage& image, std::size_t i) {
-    return luminance(Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]));
-}
-
 }  // namespace
 
 void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
                                 const std::vector<float>& distance,
-                                const std::vector<uint8_t>& keep, int width, int height) {
+                                const std::vector<uint8_t>& filtered, int width, int height) {
     width_ = width;
     height_ = height;
     surface_ = surface;
     distance_ = distance;
-    keep_ = keep;
     const std::size_t n = surface.size();
+    keep_.resize(n);
     on_edge_.resize(n);
     across_.resize(n);
     behind_.resize(n);
@@ -58,6 +54,8 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
                      &distance_[up], &distance_[down], &across_[row], &behind_[row], &on_edge_[row],
                      begin, end, left, right);
         };
+        for (std::size_t i = row; i < row + std::size_t(width); ++i)
+            keep_[i] = uint8_t(surface_[i] != 0 && filtered[i] == 0);
         if (width == 1) return run(0, 1, 0, 0);
         run(0, 1, 0, 1);
         run(1, width - 1, -1, 1);
@@ -73,8 +71,8 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
 // that side's pixels in the window that are not on an edge themselves (their light is their
 // surface's alone), or else among its 3x3: the median, since a pixel beside the edge may hold a
 // sample of the other side too. False when a side has no pixel there.
-bool EdgeCoverage::sides(const FloatImage& image, std::size_t i, Rgb& behind, Rgb& front) const {
-    const int x = int(i % std::size_t(width_)), y = int(i / std::size_t(width_));
+bool EdgeCoverage::sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb& front) const {
+    const std::size_t i = std::size_t(y) * width_ + x;
     // [side][0: interior of the 5x5, 1: any of the 3x3]
     struct Entry {
         float luminance;
@@ -91,7 +89,7 @@ bool EdgeCoverage::sides(const FloatImage& image, std::size_t i, Rgb& behind, Rg
             if (j == i || keep_[j] || (!own && !(distance_[j] < distance_[i]))) continue;
             const bool near = std::abs(nx - x) <= 1 && std::abs(ny - y) <= 1;
             const int side = own ? 0 : 1;
-            const Entry entry{luminance_at(image, j), uint32_t(j)};
+            const Entry entry{luminance(image.pixel(nx, ny)), uint32_t(j)};
             if (!on_edge_[j]) found[side][0][count[side][0]++] = entry;
             if (near) found[side][1][count[side][1]++] = entry;
         }
@@ -107,15 +105,16 @@ bool EdgeCoverage::sides(const FloatImage& image, std::size_t i, Rgb& behind, Rg
             return a.luminance < b.luminance || (a.luminance == b.luminance && a.pixel < b.pixel);
         });
         const std::size_t j = f[n / 2].pixel;
-        *out[side] = Rgb(image.rgb[3 * j], image.rgb[3 * j + 1], image.rgb[3 * j + 2]);
+        *out[side] = image.pixel(int(j % std::size_t(width_)), int(j / std::size_t(width_)));
     }
     return true;
 }
 
 Rgb EdgeCoverage::blended(const FloatImage& image, std::size_t i, float frames) const {
-    const Rgb own(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]);
+    const int x = int(i % std::size_t(width_)), y = int(i / std::size_t(width_));
+    const Rgb own = image.pixel(x, y);
     Rgb behind, front;
-    if (!sides(image, i, behind, front)) return own;
+    if (!sides(image, x, y, behind, front)) return own;
     // Which side the pixel's sample saw: the nearer in luminance.
     const float l = luminance(own);
     if (std::abs(l - luminance(front)) >= std::abs(l - luminance(behind))) return own;
@@ -132,19 +131,21 @@ void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames) {
     // Pixels whose history would leave the mix less than 1/16 of the weight are left as they
     // are: a still view's edges cost nothing once converged.
     const float most_frames = 15.0f * o_.model_frames;
-    todo_.clear();
+    short_history_.clear();
     for (const uint32_t i : edges_)
-        if (frames[i] <= most_frames) todo_.push_back(i);
-    if (todo_.empty()) return;
-    blended_.resize(todo_.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo_.size(), 64),
+        if (frames[i] <= most_frames) short_history_.push_back(i);
+    if (short_history_.empty()) return;
+    blended_.resize(short_history_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, short_history_.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t e = range.begin(); e < range.end(); ++e)
-                              blended_[e] = blended(image, todo_[e], frames[todo_[e]]);
+                              blended_[e] =
+                                  blended(image, short_history_[e], frames[short_history_[e]]);
                       });
-    for (std::size_t e = 0; e < todo_.size(); ++e)
-        for (int c = 0; c < 3; ++c)
-            image.rgb[3 * std::size_t(todo_[e]) + c] = blended_[e][c];
+    for (std::size_t e = 0; e < short_history_.size(); ++e) {
+        const std::size_t i = short_history_[e];
+        image.set_pixel(int(i % std::size_t(width_)), int(i / std::size_t(width_)), blended_[e]);
+    }
 }
 
 }  // namespace pathfarm::coord

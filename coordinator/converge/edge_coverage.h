@@ -36,31 +36,31 @@ public:
     explicit EdgeCoverage(EdgeCoverageOptions options = {}) : o_(options) {}
 
     // The frame's surfaces: `surface[i]` names the surface pixel i's centre saw (an instance,
-    // 0 for the sky) at `distance[i]` (+inf for the sky); `keep[i]` set: the pixel keeps its own
-    // light (sharp or beside it) and is no side's sample either.
+    // 0 for the sky) at `distance[i]` (+inf for the sky); `filtered[i]`: the wavelet filters
+    // the pixel. A hit pixel it does not filter is sharp or beside a sharp one: it keeps its own
+    // light and is no side's sample either.
     void set_surfaces(const std::vector<uint32_t>& surface, const std::vector<float>& distance,
-                      const std::vector<uint8_t>& keep, int width, int height);
+                      const std::vector<uint8_t>& filtered, int width, int height);
     // Blends the far-side edge pixels of `image` (the frame's output, the surfaces' size) whose
     // light looks like the front surface's towards the mix; `frames[i]`: pixel i's history in
     // frames (>= 1).
     void apply(FloatImage& image, const std::vector<float>& frames);
-    const EdgeCoverageOptions& options() const { return o_; }
 
 private:
-    bool sides(const FloatImage& image, std::size_t i, Rgb& behind, Rgb& front) const;
+    bool sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb& front) const;
     Rgb blended(const FloatImage& image, std::size_t i, float frames) const;
 
     EdgeCoverageOptions o_;
     int width_ = 0, height_ = 0;
     std::vector<uint32_t> surface_;
     std::vector<float> distance_;
-    std::vector<uint8_t> keep_;
-    std::vector<uint8_t> on_edge_;  // a 4-neighbour sees another surface
-    std::vector<uint8_t> across_;   // how many 4-neighbours do
-    std::vector<uint8_t> behind_;   // one of them is nearer the camera
-    std::vector<uint32_t> edges_;   // far-side edge pixels not kept, in order
-    std::vector<uint32_t> todo_;    // those of them with short enough history
-    std::vector<Rgb> blended_;      // their new values, before they are written
+    std::vector<uint8_t> keep_;            // hit pixels the wavelet does not filter
+    std::vector<uint8_t> on_edge_;         // a 4-neighbour sees another surface
+    std::vector<uint8_t> across_;          // how many 4-neighbours do
+    std::vector<uint8_t> behind_;          // one of them is nearer the camera
+    std::vector<uint32_t> edges_;          // far-side edge pixels not kept, in order
+    std::vector<uint32_t> short_history_;  // those of them whose history leaves the mix weight
+    std::vector<Rgb> blended_;             // their new values, before they are written
 };
 
 }  // namespace pathfarm::coord
