@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/base/memory.h"
 #include "common/cli/command_line.h"
 #include "common/net/auth.h"
 #include "common/scene/load/scene_loader.h"
@@ -201,6 +202,11 @@ void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
                    "frame alone with --no-converge): on or off")
         ->capture_default_str()
         ->check(CLI::IsMember({"on", "off"}));
+    app.add_option("--display-threads", f.display_threads,
+                   "Threads for the display stage's upscaling, converging and denoising; 0: "
+                   "every core (fewer where tracers share this machine's cores)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1024));
     app.add_option("--light-sampler", c.light_sampler,
                    "Emitter choice for next-event estimation on the tracers: tree (by importance "
                    "to the shading point) or power")
@@ -289,5 +295,7 @@ int main(int argc, char** argv) {
     add_offline_options(app, c);
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-coordinator"))
         return *exit_code;
+    // Each frame allocates the buffers the last one freed: keep them mapped (memory.h).
+    if (!pathfarm::keep_freed_memory()) spdlog::debug("the C library keeps its own malloc tuning");
     return run(c);
 }

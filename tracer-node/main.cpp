@@ -2,8 +2,10 @@
 #include <csignal>
 #include <cstdio>
 
+#include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/base/memory.h"
 #include "common/cli/command_line.h"
 #include "common/net/auth.h"
 #include "tracer-node/backend/backend_cli.h"
@@ -43,6 +45,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-tracer"))
         return *exit_code;
+    // Each frame allocates the buffers the last one freed: keep them mapped (memory.h).
+    if (!pathfarm::keep_freed_memory()) spdlog::debug("the C library keeps its own malloc tuning");
     auto endpoint = pathfarm::parse_endpoint("--coordinator", coordinator);
     if (!endpoint) {
         std::fprintf(stderr, "pathfarm-tracer: %s\n", endpoint.error().message.c_str());
