@@ -46,6 +46,11 @@ struct FarmOptions {
     // The SVGF-style denoiser (coordinator/converge/denoiser.h): temporal with converging,
     // each frame alone without.
     bool denoise = true;
+    // Threads for the display stage's per-pixel work (upscaling, converging, the denoiser);
+    // 0: every core. Where the tracers share the coordinator's cores, fewer threads wait less
+    // for one another: a pass over rows ends when its last thread does, and a thread the
+    // tracers have preempted holds every pass up (docs/denoise.md, "Threads").
+    int display_threads = 0;
     bool light_tree = true;  // --light-sampler tree|power (IntegratorSettings::light_selection)
     bool fixed_spp = false;
     // With fixed_spp: samples beyond spp per pixel on average, in [0, 1], placed where history

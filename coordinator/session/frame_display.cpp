@@ -15,6 +15,8 @@ FrameDisplay::FrameDisplay(const FarmOptions& options, ClientHub& clients, FarmM
       clients_(clients),
       metrics_(metrics),
       clock_(clock),
+      arena_(options.display_threads > 0 ? options.display_threads
+                                         : int(tbb::task_arena::automatic)),
       frame_stats_(options.stats_csv, kFrameStatsColumns),
       tracer_stats_(options.tracer_stats_csv, kTracerStatsColumns),
       costs_(options.record_costs, kUnitCostColumns),
@@ -63,7 +65,7 @@ void FrameDisplay::run() {
         busy_ = true;
         cv_.notify_all();  // the loop may queue the next frame while this one is shown
         lock.unlock();
-        show(job);
+        arena_.execute([&] { show(job); });
         std::vector<float> history;
         if (o_.converge)
             history = o_.denoise ? denoiser_.history_frames() : accumulator_.history_frames();

@@ -11,6 +11,8 @@
 #include <optional>
 #include <thread>
 
+#include <tbb/task_arena.h>
+
 #include "common/base/timer.h"
 #include "coordinator/converge/denoiser.h"
 #include "coordinator/converge/temporal_accumulator.h"
@@ -61,6 +63,7 @@ private:
     const Timer& clock_;
     TemporalAccumulator accumulator_;  // converging without the denoiser
     Denoiser denoiser_;                // converging (temporal) or not, with it
+    tbb::task_arena arena_;            // FarmOptions::display_threads
     CsvWriter frame_stats_, tracer_stats_, costs_;
     std::mutex mutex_;
     std::condition_variable cv_;

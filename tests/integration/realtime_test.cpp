@@ -180,6 +180,29 @@ TEST(RealtimeFarm, ExtraSamplesAreCountedAndTheFramesIndependentOfTheSplit) {
     EXPECT_FALSE(one.frames[3] == none.frames[3]) << "the tracers did take them";
 }
 
+// The display stage's thread count (--display-threads) changes when a frame is denoised, never
+// what it shows: converging and the denoiser on, one display thread against every core.
+TEST(RealtimeFarm, DenoisedFramesDoNotDependOnTheDisplayThreads) {
+    const auto run = [](const char* threads) {
+        Farm farm;
+        farm.mode = {"--fixed-spp", "--fps", "10", "--game", "free-camera"};
+        farm.spp = 1;
+        farm.start({"--frames", "6", "--display-threads", threads});
+        farm.add_tracer("a", {"--max-reconnects", "0"});
+        EXPECT_EQ(farm.finish(), 0);
+        std::vector<std::string> frames;
+        for (int f = 0; f < 6; ++f)
+            frames.push_back(test::read_file(farm.frame(f)));
+        return frames;
+    };
+    const std::vector<std::string> one = run("1"), all = run("0");
+    for (int f = 0; f < 6; ++f) {
+        EXPECT_FALSE(one[f].empty()) << "frame " << f;
+        EXPECT_TRUE(one[f] == all[f]) << "frame " << f;
+    }
+    EXPECT_FALSE(one[0] == one[5]) << "frames converge: the denoiser's history is in the test";
+}
+
 // The window: under Xvfb, xdotool holds W, presses E and moves the mouse; the window's own
 // screenshot must show one of the frames the client received.
 TEST(RealtimeClient, WindowShowsFramesAndSendsKeyboardAndMouseInput) {
@@ -303,6 +326,8 @@ TEST(RealtimeCli, BadInputIsAOneLineError) {
         {{"builtin:default", "--jpeg-quality", "0"}, "--jpeg-quality: Value 0 not in range"},
         {{"builtin:default", "--extra-samples", "0.5"}, "--extra-samples needs --fixed-spp"},
         {{"builtin:default", "--render-budget", "1.5"}, "--render-budget 1.5: must be in"},
+        {{"builtin:default", "--display-threads", "-1"},
+         "--display-threads: Value -1 not in range"},
     };
     for (std::size_t i = 0; i < cases.size(); ++i) {
         std::vector<std::string> args{kCoordinator, "--tracer-port", "0", "--scene"};
