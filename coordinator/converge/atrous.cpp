@@ -115,6 +115,13 @@ template <typename V, int... j>
     const unsigned csr = _mm_getcsr();
     _mm_setcsr(csr | 0x8040);  // FTZ | DAZ
     for (int x = 0; x < n; x += lanes) {
+        if (all_zero(load<V>(a.inv_plane + x))) {  // sky or sharp: every centre keeps its own
+            store(a.out_r + x, load<V>(a.r + x));
+            store(a.out_g + x, load<V>(a.g + x));
+            store(a.out_b + x, load<V>(a.b + x));
+            store(a.out_var + x, load<V>(a.var + x));
+            continue;
+        }
         Centre<V> c{load<V>(a.nx + x),
                     load<V>(a.ny + x),
                     load<V>(a.nz + x),

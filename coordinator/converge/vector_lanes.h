@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include <xmmintrin.h>
+#include <emmintrin.h>
 
 namespace pathfarm::coord::lanes {
 
@@ -61,6 +61,17 @@ template <typename V>
     const V f = t - __builtin_convertvector(i, V);
     const V p = 1.0f + f * (0.693147f + f * (0.240227f + f * (0.0555041f + f * 0.00961813f)));
     return p * (V)((i + 127) << 23);
+}
+
+// Whether every lane's bits are zero (+0.0f), in SSE2, which every function has.
+template <typename V>
+[[gnu::always_inline]] inline bool all_zero(V a) {
+    __m128i quarter[sizeof(V) / sizeof(__m128i)];
+    std::memcpy(quarter, &a, sizeof a);
+    __m128i any = quarter[0];
+    for (const __m128i& q : quarter)
+        any = _mm_or_si128(any, q);
+    return _mm_movemask_epi8(_mm_cmpeq_epi32(any, _mm_setzero_si128())) == 0xffff;
 }
 
 // SSE square roots of each 4 lanes: every function has SSE, and the vector extension has no
