@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """The demo as a user runs it (scripts/demo.sh: builtin:default's game at a held 10 frames/s,
-two 1-thread tracers, a headless client turning), two builds alternated round by round: the
-frame rate, what workload scaling chose (render size, spp, roulette), each tracer's share of
-the wall time spent rendering and updating its scene, and the client's input latency. Medians
-over rounds; CSV and a gnuplot PNG under bench/results (issue: tracer speed, item 5)."""
+two 1-thread tracers, a headless client turning), two builds (or one build with two sets of
+coordinator arguments, --args-a/--args-b) alternated round by round: the frame rate, what
+workload scaling chose (render size, spp, roulette), each tracer's share of the wall time
+spent rendering and updating its scene, the client's input latency, and the display stage's
+denoiser time (median, p95) and whole time (p95). Medians over rounds; CSV and a gnuplot PNG
+under bench/results (issue: tracer speed, item 5)."""
 import argparse
 import csv
 import os
@@ -15,8 +17,14 @@ import sys
 from bench_common import ROOT, write_csv
 
 
-def demo(bin_dir, out_dir, frames):
-    env = dict(os.environ, BIN=bin_dir, OUT=out_dir, FRAMES=str(frames))
+def percentile(values, q):
+    v = sorted(values)
+    return v[min(len(v) - 1, int(q * len(v)))] if v else 0.0
+
+
+def demo(bin_dir, out_dir, frames, coordinator_args=""):
+    env = dict(os.environ, BIN=bin_dir, OUT=out_dir, FRAMES=str(frames),
+               COORDINATOR_ARGS=coordinator_args)
     text = subprocess.run(["bash", os.path.join(ROOT, "scripts", "demo.sh")], env=env,
                           capture_output=True, text=True)
     if text.returncode != 0:
@@ -35,6 +43,8 @@ def demo(bin_dir, out_dir, frames):
                                for r in stats)
     # The denoiser's time on the display thread, while the tracers render the next frame.
     denoise = [float(r["denoise_ms"]) for r in stats if float(r.get("denoise_ms") or 0.0) > 0.0]
+    # The tail after the first 5 frames (the first ones fault every buffer in).
+    display = [float(r["display_ms"]) for r in stats[5:]]
     busy, update = {}, {}
     for r in csv.DictReader(open(os.path.join(out_dir, "tracers.csv"))):
         busy[r["tracer"]] = busy.get(r["tracer"], 0.0) + float(r["render_ms"])
@@ -45,11 +55,14 @@ def demo(bin_dir, out_dir, frames):
             "update_pct": update_pct, "latency_p50_ms": latency.get("latency_p50_ms", 0.0),
             "latency_p99_ms": latency.get("latency_p99_ms", 0.0),
             "denoise_ms_p50": statistics.median(denoise) if denoise else 0.0,
+            "denoise_ms_p95": percentile(denoise[5:], 0.95),
+            "display_ms_p95": percentile(display, 0.95),
             "tile_bytes_per_px": tile_bpp}
 
 
 KEYS = ["fps", "pixels", "spp", "rr_scale", "render_pct", "update_pct", "latency_p50_ms",
-        "latency_p99_ms", "denoise_ms_p50", "tile_bytes_per_px"]
+        "latency_p99_ms", "denoise_ms_p50", "tile_bytes_per_px", "denoise_ms_p95",
+        "display_ms_p95"]
 
 
 def plot(out, rounds):
@@ -74,6 +87,9 @@ def main():
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--a", required=True, help="build tree A (the baseline)")
     p.add_argument("--b", default=os.path.join(ROOT, "build", "release"), help="build tree B")
+    p.add_argument("--args-a", default="", help="more coordinator arguments for A")
+    p.add_argument("--args-b", default="", help="more coordinator arguments for B (the same "
+                   "tree twice with different arguments compares options)")
     p.add_argument("--label-a", default="before")
     p.add_argument("--label-b", default="after")
     p.add_argument("--rounds", type=int, default=3)
@@ -87,8 +103,8 @@ def main():
     work = os.path.join(ROOT, "bench", "cache", "demo_ab")
     rows, runs = [], {a.label_a: [], a.label_b: []}
     for r in range(a.rounds):  # alternated so machine noise hits both alike
-        for label, tree in ((a.label_a, a.a), (a.label_b, a.b)):
-            m = demo(tree, os.path.join(work, f"{label}_{r}"), a.frames)
+        for label, tree, args in ((a.label_a, a.a, a.args_a), (a.label_b, a.b, a.args_b)):
+            m = demo(tree, os.path.join(work, f"{label}_{r}"), a.frames, args)
             runs[label].append(m)
             rows.append([label, r] + [round(m[k], 3) for k in KEYS])
             print(label, r, " ".join(f"{k}={m[k]:.2f}" for k in KEYS), flush=True)

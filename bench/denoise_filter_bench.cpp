@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/base/log.h"
+#include "common/base/memory.h"
 #include "common/base/timer.h"
 #include "common/scene/load/scene_loader.h"
 #include "common/scene/scene_state.h"
@@ -114,6 +115,9 @@ int main(int argc, char** argv) {
         return 2;
     }
     init_logging("denoise-filter-bench", "warn");
+    // As the farm's processes do (coordinator/main.cpp): the frames' buffers stay mapped. A
+    // single frame in a fresh process (pathfarm-render --denoise) faults its planes in once.
+    keep_freed_memory();
     const std::string spec = argv[1];
     const int runs = parse_int("RUNS", argv[2], 1), threads = parse_int("THREADS", argv[3], 0);
     const int radius = parse_int("RADIUS", argv[4], 1) == 2 ? 2 : 1;
