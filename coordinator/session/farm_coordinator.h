@@ -47,9 +47,9 @@ struct FarmOptions {
     // each frame alone without.
     bool denoise = true;
     // Threads for the display stage's per-pixel work (upscaling, converging, the denoiser);
-    // 0: every core. Where the tracers share the coordinator's cores, fewer threads wait less
-    // for one another: a pass over rows ends when its last thread does, and a thread the
-    // tracers have preempted holds every pass up (docs/denoise.md, "Threads").
+    // 0: every core. Where the tracers share the coordinator's cores, fewer leave the tracers
+    // more time and the denoiser less (docs/denoise.md, "Page faults and threads"). The
+    // frames do not depend on it.
     int display_threads = 0;
     bool light_tree = true;  // --light-sampler tree|power (IntegratorSettings::light_selection)
     bool fixed_spp = false;
