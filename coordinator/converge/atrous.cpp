@@ -314,7 +314,8 @@ void AtrousFilter::guide_row(const GBuffer& g, const Mat3& m, const std::vector<
     }
 }
 
-void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance, bool spatial) {
+void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance, bool spatial,
+                          const std::vector<Rgb>& modulate) {
     const float sigma_l = spatial ? o_.sigma_luminance_spatial : o_.sigma_luminance;
     parallel_rows(height_, [&](int y) {
         for (int x = 0; x < width_; ++x) {
@@ -330,11 +331,18 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance,
     for (int l = 0; l < o_.levels; ++l, from = 1 - from)
         level(1 << l, from, sigma_l);
     parallel_rows(height_, [&](int y) {
-        for (int x = 0; x < width_; ++x) {
-            const std::size_t i = std::size_t(y) * width_ + x;
-            const std::size_t k = std::size_t(y + pad_) * stride_ + pad_ + x;
-            for (int c = 0; c < 3; ++c)
-                image.rgb[3 * i + c] = rgb_[from][c][k];
+        const std::size_t row = std::size_t(y) * width_;
+        const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
+        float* out = &image.rgb[3 * row];
+        if (modulate.empty()) {
+            for (int x = 0; x < width_; ++x)
+                for (int c = 0; c < 3; ++c)
+                    out[3 * x + c] = rgb_[from][c][k0 + x];
+        } else {
+            const Rgb* m = &modulate[row];
+            for (int x = 0; x < width_; ++x)
+                for (int c = 0; c < 3; ++c)
+                    out[3 * x + c] = rgb_[from][c][k0 + x] * m[x][c];
         }
     });
 }

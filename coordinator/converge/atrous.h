@@ -45,7 +45,10 @@ public:
     void set_guide(const GBuffer& g, const Camera& camera, const std::vector<uint8_t>& filter);
     // Filters `image` (demodulated light, the guide's size) in place; `variance` is each
     // pixel's luminance variance, `spatial` whether it was estimated from one frame alone.
-    void filter(FloatImage& image, const std::vector<float>& variance, bool spatial);
+    // Each pixel is multiplied by `modulate`'s as it is written back (the denoiser's base
+    // colour); empty: not.
+    void filter(FloatImage& image, const std::vector<float>& variance, bool spatial,
+                const std::vector<Rgb>& modulate = {});
     const AtrousOptions& options() const { return o_; }
 
 private:

@@ -11,26 +11,22 @@
 namespace pathfarm::coord {
 namespace {
 
-// 3x3 Gaussian (edges replicated) of `v` into `out`, through `tmp`. The loops over a row's
-// interior have no clamps, so they vectorise.
-void blur3(const std::vector<float>& v, std::vector<float>& tmp, std::vector<float>& out, int w,
-           int h) {
-    parallel_rows(h, [&](int y) {
-        const float* in = &v[std::size_t(y) * w];
-        float* t = &tmp[std::size_t(y) * w];
-        for (int x = 1; x + 1 < w; ++x)
-            t[x] = 0.25f * (in[x - 1] + in[x + 1]) + 0.5f * in[x];
-        t[0] = 0.75f * in[0] + 0.25f * in[std::min(1, w - 1)];
-        t[w - 1] = 0.75f * in[w - 1] + 0.25f * in[std::max(0, w - 2)];
-    });
-    parallel_rows(h, [&](int y) {
-        const float* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
-        const float* mid = &tmp[std::size_t(y) * w];
-        const float* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
-        float* o = &out[std::size_t(y) * w];
-        for (int x = 0; x < w; ++x)
-            o[x] = 0.25f * (up[x] + down[x]) + 0.5f * mid[x];
-    });
+// One row of a 3x3 Gaussian's horizontal pass (edges replicated). The loop over the row's
+// interior has no clamps, so it vectorises.
+void blur3_row(const float* in, float* t, int w) {
+    for (int x = 1; x + 1 < w; ++x)
+        t[x] = 0.25f * (in[x - 1] + in[x + 1]) + 0.5f * in[x];
+    t[0] = 0.75f * in[0] + 0.25f * in[std::min(1, w - 1)];
+    t[w - 1] = 0.75f * in[w - 1] + 0.25f * in[std::max(0, w - 2)];
+}
+
+// Row y of a 3x3 Gaussian's vertical pass over `tmp` (edges replicated).
+void blur3_column(const std::vector<float>& tmp, float* o, int w, int h, int y) {
+    const float* up = &tmp[std::size_t(std::max(0, y - 1)) * w];
+    const float* mid = &tmp[std::size_t(y) * w];
+    const float* down = &tmp[std::size_t(std::min(h - 1, y + 1)) * w];
+    for (int x = 0; x < w; ++x)
+        o[x] = 0.25f * (up[x] + down[x]) + 0.5f * mid[x];
 }
 
 // The mean base colour over each pixel's footprint, which its jittered samples saw, from the
@@ -112,30 +108,46 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
                                  int w, int h) {
     const std::size_t n = moments.size();
     variance_.resize(n);
-    m1_.resize(n);
-    m2_.resize(n);
-    tmp_.resize(n);
-    parallel_rows(h, [&](int y) {
-        for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
-            m1_[i] = moments[i].x;
-            m2_[i] = moments[i].y;
-        }
-    });
     const bool any_short = !frames || std::any_of(frames->begin(), frames->end(), [&](float k) {
         return k < float(o_.variance_frames);
     });
-    if (any_short)  // a still view with history everywhere needs no spatial estimate
-        for (std::vector<float>* m : {&m1_, &m2_}) {
-            blur3(*m, tmp_, variance_, w, h);  // variance_ as scratch
-            blur3(variance_, tmp_, *m, w, h);
-        }
+    if (any_short) {  // a still view with history everywhere needs no spatial estimate
+        // The moments' two 3x3 Gaussians (a 5x5 binomial), both moments in each pass: the
+        // first row pass reads them from the accumulator's pairs.
+        for (std::vector<float>* p : {&m1_, &m2_, &tmp_, &tmp2_, &blur1_, &blur2_})
+            p->resize(n);
+        parallel_rows(h, [&](int y) {
+            const std::size_t row = std::size_t(y) * w;
+            for (std::size_t i = row; i < row + w; ++i) {
+                m1_[i] = moments[i].x;
+                m2_[i] = moments[i].y;
+            }
+            blur3_row(&m1_[row], &tmp_[row], w);
+            blur3_row(&m2_[row], &tmp2_[row], w);
+        });
+        parallel_rows(h, [&](int y) {
+            const std::size_t row = std::size_t(y) * w;
+            blur3_column(tmp_, &blur1_[row], w, h, y);
+            blur3_column(tmp2_, &blur2_[row], w, h, y);
+        });
+        parallel_rows(h, [&](int y) {
+            const std::size_t row = std::size_t(y) * w;
+            blur3_row(&blur1_[row], &tmp_[row], w);
+            blur3_row(&blur2_[row], &tmp2_[row], w);
+        });
+        parallel_rows(h, [&](int y) {
+            const std::size_t row = std::size_t(y) * w;
+            blur3_column(tmp_, &m1_[row], w, h, y);
+            blur3_column(tmp2_, &m2_[row], w, h, y);
+        });
+    }
     parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
             const float k = frames ? (*frames)[i] : 1.0f;
             const float own = moments[i].y - moments[i].x * moments[i].x;
-            const float spatial = m2_[i] - m1_[i] * m1_[i];
-            variance_[i] =
-                k >= float(o_.variance_frames) ? std::max(0.0f, own) / k : std::max(0.0f, spatial);
+            variance_[i] = k >= float(o_.variance_frames)
+                               ? std::max(0.0f, own) / k
+                               : std::max(0.0f, m2_[i] - m1_[i] * m1_[i]);
         }
     });
 }
@@ -171,12 +183,7 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
         });
         estimate_variance(moments_, nullptr, w, h);
     }
-    atrous_.filter(image, variance_, !temporal);
-    parallel_rows(h, [&](int y) {
-        for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i)
-            for (int c = 0; c < 3; ++c)
-                image.rgb[3 * i + c] *= albedo_[i][c];
-    });
+    atrous_.filter(image, variance_, !temporal, albedo_);  // and remodulated
     if (temporal && o_.edges.model_frames > 0.0f)
         edges_.apply(image, accumulator_.history_frames());
     if (temporal && o_.taa_alpha > 0.0f) taa_.apply(image, accumulator_.sources());

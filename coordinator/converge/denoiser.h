@@ -72,7 +72,7 @@ private:
     std::vector<uint8_t> filter_mask_, near_sharp_;
     std::vector<Rgb> albedo_, albedo_tmp_;
     std::vector<Vec2> moments_;
-    std::vector<float> variance_, m1_, m2_, tmp_;
+    std::vector<float> variance_, m1_, m2_, tmp_, tmp2_, blur1_, blur2_;
 };
 
 // One frame alone (pathfarm-render --denoise): the spatial filter with a spatial variance.
