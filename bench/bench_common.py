@@ -37,6 +37,12 @@ def batch_mode(coordinator):
     return list(_BATCH[coordinator])
 
 
+def quantile(values, q):
+    """The q-quantile of `values` (nearest rank below); 0 for none."""
+    s = sorted(values)
+    return s[min(len(s) - 1, int(q * len(s)))] if s else 0.0
+
+
 def write_csv(path, header, rows):
     with open(path, "w", newline="") as f:
         w = csv.writer(f)

@@ -20,13 +20,9 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests", "integration", "web"))
+from bench_common import quantile  # noqa: E402
 import cdp  # noqa: E402
 import web_farm  # noqa: E402
-
-
-def quantile(values, q):
-    s = sorted(values)
-    return s[min(len(s) - 1, int(q * len(s)))]
 
 
 def browser_latencies(browser, seconds):

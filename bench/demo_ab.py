@@ -14,12 +14,7 @@ import statistics
 import subprocess
 import sys
 
-from bench_common import ROOT, write_csv
-
-
-def percentile(values, q):
-    v = sorted(values)
-    return v[min(len(v) - 1, int(q * len(v)))] if v else 0.0
+from bench_common import ROOT, quantile, write_csv
 
 
 def demo(bin_dir, out_dir, frames, coordinator_args=""):
@@ -55,8 +50,8 @@ def demo(bin_dir, out_dir, frames, coordinator_args=""):
             "update_pct": update_pct, "latency_p50_ms": latency.get("latency_p50_ms", 0.0),
             "latency_p99_ms": latency.get("latency_p99_ms", 0.0),
             "denoise_ms_p50": statistics.median(denoise) if denoise else 0.0,
-            "denoise_ms_p95": percentile(denoise[5:], 0.95),
-            "display_ms_p95": percentile(display, 0.95),
+            "denoise_ms_p95": quantile(denoise[5:], 0.95),
+            "display_ms_p95": quantile(display, 0.95),
             "tile_bytes_per_px": tile_bpp}
 
 

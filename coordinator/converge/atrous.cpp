@@ -334,16 +334,10 @@ void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance,
         const std::size_t row = std::size_t(y) * width_;
         const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
         float* out = &image.rgb[3 * row];
-        if (modulate.empty()) {
-            for (int x = 0; x < width_; ++x)
-                for (int c = 0; c < 3; ++c)
-                    out[3 * x + c] = rgb_[from][c][k0 + x];
-        } else {
-            const Rgb* m = &modulate[row];
-            for (int x = 0; x < width_; ++x)
-                for (int c = 0; c < 3; ++c)
-                    out[3 * x + c] = rgb_[from][c][k0 + x] * m[x][c];
-        }
+        const Rgb* m = &modulate[row];
+        for (int x = 0; x < width_; ++x)
+            for (int c = 0; c < 3; ++c)
+                out[3 * x + c] = rgb_[from][c][k0 + x] * m[x][c];
     });
 }
 

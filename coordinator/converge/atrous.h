@@ -46,9 +46,9 @@ public:
     // Filters `image` (demodulated light, the guide's size) in place; `variance` is each
     // pixel's luminance variance, `spatial` whether it was estimated from one frame alone.
     // Each pixel is multiplied by `modulate`'s as it is written back (the denoiser's base
-    // colour); empty: not.
+    // colour).
     void filter(FloatImage& image, const std::vector<float>& variance, bool spatial,
-                const std::vector<Rgb>& modulate = {});
+                const std::vector<Rgb>& modulate);
     const AtrousOptions& options() const { return o_; }
 
 private:

@@ -116,30 +116,27 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
         // first row pass reads them from the accumulator's pairs.
         for (std::vector<float>* p : {&m1_, &m2_, &tmp_, &tmp2_, &blur1_, &blur2_})
             p->resize(n);
-        parallel_rows(h, [&](int y) {
-            const std::size_t row = std::size_t(y) * w;
-            for (std::size_t i = row; i < row + w; ++i) {
-                m1_[i] = moments[i].x;
-                m2_[i] = moments[i].y;
-            }
-            blur3_row(&m1_[row], &tmp_[row], w);
-            blur3_row(&m2_[row], &tmp2_[row], w);
-        });
-        parallel_rows(h, [&](int y) {
-            const std::size_t row = std::size_t(y) * w;
-            blur3_column(tmp_, &blur1_[row], w, h, y);
-            blur3_column(tmp2_, &blur2_[row], w, h, y);
-        });
-        parallel_rows(h, [&](int y) {
-            const std::size_t row = std::size_t(y) * w;
-            blur3_row(&blur1_[row], &tmp_[row], w);
-            blur3_row(&blur2_[row], &tmp2_[row], w);
-        });
-        parallel_rows(h, [&](int y) {
-            const std::size_t row = std::size_t(y) * w;
-            blur3_column(tmp_, &m1_[row], w, h, y);
-            blur3_column(tmp2_, &m2_[row], w, h, y);
-        });
+        // One 3x3 Gaussian of planes a and b into out_a and out_b, through tmp_ and tmp2_.
+        const auto blur_both = [&](bool from_moments, std::vector<float>& a, std::vector<float>& b,
+                                   std::vector<float>& out_a, std::vector<float>& out_b) {
+            parallel_rows(h, [&](int y) {
+                const std::size_t row = std::size_t(y) * w;
+                if (from_moments)
+                    for (std::size_t i = row; i < row + w; ++i) {
+                        a[i] = moments[i].x;
+                        b[i] = moments[i].y;
+                    }
+                blur3_row(&a[row], &tmp_[row], w);
+                blur3_row(&b[row], &tmp2_[row], w);
+            });
+            parallel_rows(h, [&](int y) {
+                const std::size_t row = std::size_t(y) * w;
+                blur3_column(tmp_, &out_a[row], w, h, y);
+                blur3_column(tmp2_, &out_b[row], w, h, y);
+            });
+        };
+        blur_both(true, m1_, m2_, blur1_, blur2_);
+        blur_both(false, blur1_, blur2_, m1_, m2_);
     }
     parallel_rows(h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w; i < std::size_t(y + 1) * w; ++i) {
