@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """The demo as a user runs it (scripts/demo.sh: builtin:default's game at a held 10 frames/s,
 two 1-thread tracers, a headless client turning), two builds (or one build with two sets of
-coordinator arguments, --args-a/--args-b) alternated round by round: the frame rate, what
-workload scaling chose (render size, spp, roulette), each tracer's share of the wall time
-spent rendering and updating its scene, the client's input latency, and the display stage's
-denoiser time (median, p95) and whole time (p95). Medians over rounds; CSV and a gnuplot PNG
-under bench/results (issue: tracer speed, item 5)."""
+coordinator or tracer arguments: --args-a/--args-b, --tracer-args-a/--tracer-args-b)
+alternated round by round: the frame rate, what workload scaling chose (render size, spp,
+roulette), each tracer's share of the wall time spent rendering and updating its scene, the
+client's input latency, and the display stage's denoiser time (median, p95) and whole time
+(p95). Medians over rounds; CSV and a gnuplot PNG under bench/results (issue: tracer speed,
+item 5)."""
 import argparse
 import csv
 import os
@@ -17,9 +18,9 @@ import sys
 from bench_common import ROOT, quantile, write_csv
 
 
-def demo(bin_dir, out_dir, frames, coordinator_args=""):
+def demo(bin_dir, out_dir, frames, coordinator_args="", tracer_args=""):
     env = dict(os.environ, BIN=bin_dir, OUT=out_dir, FRAMES=str(frames),
-               COORDINATOR_ARGS=coordinator_args)
+               COORDINATOR_ARGS=coordinator_args, TRACER_ARGS=tracer_args)
     text = subprocess.run(["bash", os.path.join(ROOT, "scripts", "demo.sh")], env=env,
                           capture_output=True, text=True)
     if text.returncode != 0:
@@ -85,6 +86,8 @@ def main():
     p.add_argument("--args-a", default="", help="more coordinator arguments for A")
     p.add_argument("--args-b", default="", help="more coordinator arguments for B (the same "
                    "tree twice with different arguments compares options)")
+    p.add_argument("--tracer-args-a", default="", help="more tracer arguments for A")
+    p.add_argument("--tracer-args-b", default="", help="more tracer arguments for B")
     p.add_argument("--label-a", default="before")
     p.add_argument("--label-b", default="after")
     p.add_argument("--rounds", type=int, default=3)
@@ -98,8 +101,9 @@ def main():
     work = os.path.join(ROOT, "bench", "cache", "demo_ab")
     rows, runs = [], {a.label_a: [], a.label_b: []}
     for r in range(a.rounds):  # alternated so machine noise hits both alike
-        for label, tree, args in ((a.label_a, a.a, a.args_a), (a.label_b, a.b, a.args_b)):
-            m = demo(tree, os.path.join(work, f"{label}_{r}"), a.frames, args)
+        for label, tree, args, tracer_args in ((a.label_a, a.a, a.args_a, a.tracer_args_a),
+                                               (a.label_b, a.b, a.args_b, a.tracer_args_b)):
+            m = demo(tree, os.path.join(work, f"{label}_{r}"), a.frames, args, tracer_args)
             runs[label].append(m)
             rows.append([label, r] + [round(m[k], 3) for k in KEYS])
             print(label, r, " ".join(f"{k}={m[k]:.2f}" for k in KEYS), flush=True)
