@@ -31,8 +31,10 @@ struct TracerOptions {
 // How many times slower than its real speed the tracer renders `frame` (slowdown and hiccups).
 double frame_slowdown(const TracerOptions& o, uint64_t frame);
 
-// Runs until `stop` becomes true (or the reconnect budget is spent). Returns an error only for
-// problems that retrying cannot fix (bad options, backend unavailable).
+// Runs until `stop` becomes true (or the reconnect budget is spent). Returns an error for
+// problems that retrying cannot fix (bad options, backend unavailable) and when the budget ran
+// out on a coordinator it could not reach (the last attempt's reason, io_error); a session
+// that ended with no reconnection left to try is success.
 Status run_tracer(const TracerOptions& options, const std::atomic<bool>& stop);
 
 }  // namespace pathfarm::tracer

@@ -273,6 +273,33 @@ TEST(FarmCli, BadInputIsAOneLineError) {
               std::string::npos);
 }
 
+// A tracer that gives up on a coordinator it cannot reach fails with the last attempt's reason
+// (a supervisor sees it); one whose coordinator finished, with no reconnection left to try,
+// ends normally.
+TEST(TracerDaemon, GivingUpOnAnUnreachableCoordinatorIsAFailureAFinishedSessionIsNot) {
+    Farm farm;
+    const std::string address = "127.0.0.1:" + std::to_string(free_port());  // no one listens
+    Process unreachable({kTracer, "--coordinator", address, "--max-reconnects", "1"},
+                        farm.dir + "/unreachable.log");
+    EXPECT_EQ(unreachable.wait(20s), std::optional<int>(1));
+    std::istringstream log(test::read_file(farm.dir + "/unreachable.log"));
+    std::string line, last;
+    int retrying = 0;
+    while (std::getline(log, line))
+        if (!line.empty()) {
+            last = line;
+            retrying += line.find("retrying") != std::string::npos;
+        }
+    EXPECT_EQ(last.rfind("pathfarm-tracer: " + address + ": ", 0), 0u) << last;
+    EXPECT_NE(last.find("(gave up after 2 connection attempts)"), std::string::npos) << last;
+    EXPECT_EQ(retrying, 1) << "the last attempt retries no more";
+
+    farm.start({"--frames", "1", "--min-tracers", "1"});
+    Process& tracer = farm.add_tracer("t", {"--max-reconnects", "0"});
+    ASSERT_EQ(farm.finish(), 0);
+    EXPECT_EQ(tracer.wait(20s), std::optional<int>(0)) << test::read_file(farm.dir + "/t.log");
+}
+
 // Injected hiccups (for live balancing benchmarks) repeat for a seed and hit the asked fraction.
 TEST(TracerHiccups, FrameSlowdownIsSeededAndHitsTheRequestedFraction) {
     tracer::TracerOptions o;
