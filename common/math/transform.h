@@ -16,8 +16,16 @@ inline Mat3 normal_matrix(const Mat4& m) { return glm::transpose(glm::inverse(Ma
 // Translation * rotation * scale, the glTF node convention.
 Mat4 compose_trs(const Vec3& translation, const glm::quat& rotation, const Vec3& scale);
 
-// A camera-to-world matrix looking from eye towards target with the given up vector; the
-// camera looks down its local -Z axis with +Y up (glTF convention).
+// Whether `up` can orient a camera looking along `forward`: not zero and not within about a
+// twentieth of a degree of parallel to it (glm::lookAt's basis is NaN there).
+bool orients_view(const Vec3& forward, const Vec3& up);
+
+// A camera-to-world matrix looking from eye towards target (another point) with the given up
+// vector; the camera looks down its local -Z axis with +Y up (glTF convention). Where `up`
+// does not orient the view (orients_view: a camera looking straight down with +Y up) the world
+// axis least aligned with the view takes its place: the roll is arbitrary but the matrix is
+// never NaN (a NaN camera renders a black frame, silently). Command lines reject such an up
+// instead.
 Mat4 look_at_camera(const Vec3& eye, const Vec3& target, const Vec3& up);
 
 }  // namespace pathfarm

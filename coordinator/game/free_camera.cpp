@@ -29,8 +29,16 @@ FreeCameraGame::FreeCameraGame(const SceneGraph& graph) {
 void FreeCameraGame::take_pose(const Mat4& camera_to_world) {
     eye_ = transform_point(camera_to_world, Vec3(0.0f));
     const Vec3 forward = glm::normalize(transform_vector(camera_to_world, Vec3(0, 0, -1)));
-    yaw_ = std::atan2(-forward.x, -forward.z);
-    pitch_ = std::asin(std::clamp(forward.y, -1.0f, 1.0f));
+    // Straight down (or up) the view has no heading of its own: the image's top gives it
+    // (ahead when looking down, behind when looking up). The pitch stops short of vertical as
+    // turning does: a vertical view with +Y up has no image up (look_at_camera).
+    Vec3 heading = forward;
+    if (forward.x * forward.x + forward.z * forward.z < 1e-6f) {
+        const Vec3 top = transform_vector(camera_to_world, Vec3(0, 1, 0));
+        heading = forward.y < 0.0f ? top : -top;
+    }
+    yaw_ = std::atan2(-heading.x, -heading.z);
+    pitch_ = std::clamp(std::asin(std::clamp(forward.y, -1.0f, 1.0f)), -kMaxPitch, kMaxPitch);
 }
 
 Vec3 FreeCameraGame::view_direction() const {

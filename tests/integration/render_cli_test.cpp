@@ -89,6 +89,17 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
         run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 --out " + dir + "/x.bmpx");
     EXPECT_EQ(ext.exit_code, 2) << ext.output;
     EXPECT_NE(run_cli("--help").output.find("--max-depth"), std::string::npos);
+    // An up that cannot orient the view rendered a black image (a NaN camera) before.
+    for (const std::string up : {"0 0 0", "0 1 0", "0 -3 0"}) {
+        const CliRun view = run_cli(
+            "--scene builtin:cornell --spp 1 --width 8 --height 8 "
+            "--look-from 0.3 0.3 0 --look-at 0.3 0.1 0 --up " +
+            up + " --out " + dir + "/x.pfm");
+        EXPECT_EQ(view.exit_code, 2) << up << ": " << view.output;
+        EXPECT_NE(view.output.find("--up " + up + ": zero or parallel to the view"),
+                  std::string::npos)
+            << view.output;
+    }
 }
 
 // Without the OpenImageIO module (oiio_images.h) PFM still works and an EXR is a one-line

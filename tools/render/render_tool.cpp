@@ -24,6 +24,11 @@ Result<Camera> pick_camera(const SceneModel& scene, const RenderToolOptions& o, 
             !(o.fov_degrees > 0.0f && o.fov_degrees < 180.0f))
             return make_error(ErrorCode::invalid_argument,
                               "--look-from needs --look-at at another point and --fov in (0, 180)");
+        if (!orients_view(*o.look_at - *o.look_from, o.up))
+            return make_error(ErrorCode::invalid_argument,
+                              "--up {} {} {}: zero or parallel to the view from --look-from to "
+                              "--look-at (the image would have no up)",
+                              o.up.x, o.up.y, o.up.z);
         Camera c;
         c.name = "command-line";
         c.yfov_radians = glm::radians(o.fov_degrees);

@@ -1,6 +1,8 @@
 // builtin:default's game through the real scene graph, BVH and ray queries: collisions stop
 // the camera at walls, the action key opens the door and switches the lamp only when the
 // crosshair is on them, and time moves the ball and switches the spot light.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "common/math/transform.h"
@@ -70,6 +72,34 @@ TEST(DefaultSceneGame, WalkingIntoAWallStopsABodyRadiusShortOfIt) {
     EXPECT_LE(e.z, -8.0f + FreeCameraGame::kBodyRadius + 0.05f);
     EXPECT_NEAR(e.x, 0.0f, 1e-4f);
     EXPECT_NEAR(e.y, 1.5f, 1e-4f);
+}
+
+// A camera looking straight down (or up) with the world's +Y as up had no image up: its
+// matrix was NaN, and so was every frame after the player moved. It walks towards the image's
+// top (behind it looking up), and every published camera is finite.
+TEST(DefaultSceneGame, AVerticalViewWalksTowardsTheImagesTopWithAFiniteCamera) {
+    for (const float down : {-1.0f, 1.0f}) {
+        World w;
+        const Vec3 from(0.0f, 1.5f, -1.0f);
+        w.look(from, from + Vec3(0.0f, down, 0.0f));
+        const auto camera = [&] {
+            return w.graph.state().cameras.at(w.graph.state().active_camera).camera_to_world;
+        };
+        const Vec3 top = glm::normalize(transform_vector(camera(), Vec3(0, 1, 0)));
+        PlayerInput in;
+        in.move[2] = 0.2f;
+        w.game->on_input(in, 0.0, w.graph, w.queries);
+        const Mat4 m = camera();
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                ASSERT_TRUE(std::isfinite(m[c][r])) << down << " " << c << " " << r;
+        const Vec3 view = glm::normalize(transform_vector(m, Vec3(0, 0, -1)));
+        EXPECT_GT(view.y * down, 0.99f) << "still looking nearly straight " << down;
+        const Vec3 ahead = down < 0.0f ? top : -top;
+        const Vec3 moved = w.eye() - from;
+        EXPECT_NEAR(glm::dot(moved, ahead), 0.2f, 1e-4f) << down;
+        EXPECT_NEAR(glm::length(moved), 0.2f, 1e-4f) << down;
+    }
 }
 
 TEST(DefaultSceneGame, WalkingAlongAWallSlides) {
