@@ -2,7 +2,6 @@
 // thread's FrameWorker applies commits and renders, so rendering never blocks the connection.
 #include "tracer-node/tracer_daemon.h"
 
-#include <optional>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -63,9 +62,8 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     config.hello.threads = uint32_t(o.threads);
     config.hello.wants_bvh_nodes = (*backend)->wants_bvh_nodes();
     auto backoff = std::chrono::milliseconds(200);
-    std::optional<Error> unreachable;  // the last attempt's failure, until one connects
-    int attempt = 0;
-    for (; !stop && (o.max_reconnects < 0 || attempt <= o.max_reconnects); ++attempt) {
+    for (int attempt = 0; !stop && (o.max_reconnects < 0 || attempt <= o.max_reconnects);
+         ++attempt) {
         auto inbox = std::make_shared<Inbox>();  // handlers go in before the first message
         config.on_message = [inbox](std::string&& m) { inbox->push(m); };
         config.on_closed = [inbox](const std::string& reason) {
@@ -74,8 +72,12 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
         };
         auto session = net.connect_sync(config);
         if (!session) {
-            unreachable = session.error();
-            if (o.max_reconnects >= 0 && attempt == o.max_reconnects) break;  // the last one
+            // Giving up on a coordinator it cannot reach is a failure (a supervisor restarts
+            // it); a session that ended with no reconnection left to try (--max-reconnects 0
+            // after the coordinator finished) leaves the loop as the normal end.
+            if (o.max_reconnects >= 0 && attempt == o.max_reconnects && !stop)
+                return make_error(ErrorCode::io_error, "{} (gave up after {} connection attempt{})",
+                                  session.error().message, attempt + 1, attempt == 0 ? "" : "s");
             spdlog::warn("{} (retrying in {} ms)", session.error().message, backoff.count());
             for (auto waited = std::chrono::milliseconds(0); waited < backoff && !stop;
                  waited += std::chrono::milliseconds(50))
@@ -83,17 +85,10 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
             backoff = std::min(backoff * 2, std::chrono::milliseconds(5000));
             continue;
         }
-        unreachable.reset();
         spdlog::info("connected to {}:{} as \"{}\"", o.host, o.port, o.name);
         backoff = std::chrono::milliseconds(200);
         serve_session(o, **backend, **session, *inbox, stop);
     }
-    // Giving up on a coordinator it cannot reach is a failure (a supervisor restarts it); a
-    // session that ended with no reconnection left to try (--max-reconnects 0 after the
-    // coordinator finished) is the normal end.
-    if (unreachable && !stop)
-        return make_error(ErrorCode::io_error, "{} (gave up after {} connection attempt{})",
-                          unreachable->message, attempt + 1, attempt == 0 ? "" : "s");
     return {};
 }
 
