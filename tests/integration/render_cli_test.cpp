@@ -89,6 +89,14 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
         run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 --out " + dir + "/x.bmpx");
     EXPECT_EQ(ext.exit_code, 2) << ext.output;
     EXPECT_NE(run_cli("--help").output.find("--max-depth"), std::string::npos);
+    // --seconds 0 rendered the default 16 spp before instead of refusing the value.
+    for (const std::string seconds : {"0", "-1", "nan"}) {
+        const CliRun time = run_cli("--scene builtin:cornell --width 8 --height 8 --seconds " +
+                                    seconds + " --out " + dir + "/x.pfm");
+        EXPECT_EQ(time.exit_code, 2) << seconds << ": " << time.output;
+        EXPECT_NE(time.output.find("--seconds "), std::string::npos) << time.output;
+        EXPECT_EQ(time.output.find("samples_per_s="), std::string::npos) << time.output;
+    }
     // An up that cannot orient the view rendered a black image (a NaN camera) before.
     for (const std::string up : {"0 0 0", "0 1 0", "0 -3 0"}) {
         const CliRun view = run_cli(

@@ -19,8 +19,8 @@ struct CommandLine {
     std::string strategy = "mis", kernel = "specialised", light_sampler;
     std::vector<float> look_from, look_at, up;
     bool no_light_culling = false;
-    double time = 0.0;
-    CLI::Option* time_option = nullptr;
+    double time = 0.0, seconds = 0.0;
+    CLI::Option *time_option = nullptr, *seconds_option = nullptr;
 };
 
 void add_image_options(CLI::App& app, CommandLine& c) {
@@ -34,8 +34,9 @@ void add_image_options(CLI::App& app, CommandLine& c) {
     app.add_option("--height", o.height, "Image height in pixels (aspect = width/height)")
         ->capture_default_str();
     auto* spp = app.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
-    app.add_option("--seconds", o.seconds, "Render for this many seconds instead of --spp")
-        ->excludes(spp);
+    c.seconds_option =
+        app.add_option("--seconds", c.seconds, "Render for this many seconds instead of --spp")
+            ->excludes(spp);
     app.add_option("--seed", o.seed, "Seed of the per-sample random numbers")
         ->capture_default_str();
     app.add_option("--frame", o.frame, "Frame index (enters the random numbers)")
@@ -103,6 +104,7 @@ pathfarm::tools::RenderToolOptions finish_options(CommandLine& c) {
     o.light_selection = c.light_sampler == "tree" ? pathfarm::LightSelection::tree
                                                   : pathfarm::LightSelection::power;
     if (c.time_option->count() > 0) o.time = c.time;
+    if (c.seconds_option->count() > 0) o.seconds = c.seconds;
     if (!c.look_from.empty()) o.look_from = to_vec3(c.look_from);
     if (!c.look_at.empty()) o.look_at = to_vec3(c.look_at);
     if (!c.up.empty()) o.up = to_vec3(c.up);

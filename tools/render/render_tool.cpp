@@ -48,13 +48,15 @@ Status check_options(const RenderToolOptions& o) {
     if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
         return make_error(ErrorCode::invalid_argument, "--width/--height {}x{}: must be 1..16384",
                           o.width, o.height);
-    if (o.spp <= 0 && o.seconds <= 0.0)
+    if (o.spp <= 0 && !o.seconds)
         return make_error(ErrorCode::invalid_argument, "--spp {}: must be positive", o.spp);
     if (o.max_depth < 0 || o.max_depth > 1024)
         return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024",
                           o.max_depth);
-    if (o.seconds < 0.0)
-        return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive", o.seconds);
+    // Written as !(x > 0) so that NaN is refused too.
+    if (o.seconds && !(*o.seconds > 0.0))
+        return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive",
+                          *o.seconds);
     return check_image_format(o.out);
 }
 
@@ -205,8 +207,8 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     std::vector<FirstHit> hits(o.denoise ? std::size_t(o.width) * std::size_t(o.height) : 0);
     FirstHit* hits_out = o.denoise ? hits.data() : nullptr;
     const Status rendered =
-        o.seconds > 0.0
-            ? render_for_seconds(**backend, job, o.seconds, image, summary, counters, hits_out)
+        o.seconds
+            ? render_for_seconds(**backend, job, *o.seconds, image, summary, counters, hits_out)
             : render_spp(**backend, job, o.spp, image, summary, counters, hits_out);
     if (!rendered) return rendered.error();
     summary.seconds = timer.seconds();

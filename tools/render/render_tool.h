@@ -16,7 +16,8 @@ struct RenderToolOptions {
     int width = 640;
     int height = 360;
     int spp = 16;
-    double seconds = 0.0;  // > 0: render passes until this much time has passed (spp ignored)
+    // Set: render passes until this much time has passed (spp ignored); must be positive.
+    std::optional<double> seconds;
     uint32_t seed = 0;
     uint32_t frame = 0;
     int camera = -1;  // -1: the scene's first camera, or a framing of its bounds
