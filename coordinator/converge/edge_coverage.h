@@ -61,6 +61,7 @@ private:
     std::vector<uint32_t> edges_;          // far-side edge pixels not kept, in order
     std::vector<uint32_t> short_history_;  // those of them whose history leaves the mix weight
     std::vector<Rgb> blended_;             // their new values, before they are written
+    std::vector<float> luminance_;         // of the image being blended, per pixel
 };
 
 }  // namespace pathfarm::coord

@@ -59,25 +59,11 @@ GBuffer gbuffer_from_backend_hits(std::vector<FirstHit> hits, const Camera& came
 CameraProjector::CameraProjector(const Camera& camera, int width, int height)
     : world_to_camera_(glm::inverse(camera.camera_to_world)),
       eye_(transform_point(camera.camera_to_world, Vec3(0.0f))),
-      scale_y_(std::tan(0.5f * camera.yfov_radians)),
-      width_(width),
-      height_(height) {
-    scale_x_ = scale_y_ * float(width) / float(height);
-}
-
-bool CameraProjector::camera_space(const Vec3& q, float& px, float& py) const {
-    if (!(q.z < 0.0f)) return false;  // the camera looks down -Z
-    px = (q.x / -q.z / scale_x_ + 1.0f) * 0.5f * float(width_);
-    py = (1.0f - q.y / -q.z / scale_y_) * 0.5f * float(height_);
-    return std::isfinite(px) && std::isfinite(py);
-}
-
-bool CameraProjector::point(const Vec3& p, float& px, float& py) const {
-    return camera_space(transform_point(world_to_camera_, p), px, py);
-}
-
-bool CameraProjector::direction(const Vec3& d, float& px, float& py) const {
-    return camera_space(transform_vector(world_to_camera_, d), px, py);
+      half_width_(0.5f * float(width)),
+      half_height_(0.5f * float(height)) {
+    const float scale_y = std::tan(0.5f * camera.yfov_radians);
+    inv_scale_y_ = 1.0f / scale_y;
+    inv_scale_x_ = 1.0f / (scale_y * float(width) / float(height));
 }
 
 }  // namespace pathfarm::coord

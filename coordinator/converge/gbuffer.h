@@ -3,10 +3,12 @@
 // no rays of its own for it.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "common/film/first_hits.h"
+#include "common/math/transform.h"
 #include "common/scene/camera.h"
 
 namespace pathfarm::coord {
@@ -44,20 +46,33 @@ GBuffer gbuffer_from_backend_hits(std::vector<FirstHit> hits, const Camera& came
 
 // Maps world points and directions to continuous pixel coordinates (pixel centres at +0.5):
 // the inverse of generate_camera_ray. False when behind the camera.
+// Inline: the temporal accumulator projects every pixel under a moving camera, and through a
+// call its two results went by memory (a store-forwarding stall per pixel).
 class CameraProjector {
 public:
     CameraProjector(const Camera& camera, int width, int height);
-    bool point(const Vec3& p, float& px, float& py) const;
-    bool direction(const Vec3& d, float& px, float& py) const;  // a point at infinity: the sky
+    bool point(const Vec3& p, float& px, float& py) const {
+        return camera_space(transform_point(world_to_camera_, p), px, py);
+    }
+    // A point at infinity: the sky.
+    bool direction(const Vec3& d, float& px, float& py) const {
+        return camera_space(transform_vector(world_to_camera_, d), px, py);
+    }
     Vec3 eye() const { return eye_; }
 
 private:
-    bool camera_space(const Vec3& q, float& px, float& py) const;
+    bool camera_space(const Vec3& q, float& px, float& py) const {
+        if (!(q.z < 0.0f)) return false;      // the camera looks down -Z
+        const float inv_depth = -1.0f / q.z;  // one division, not four
+        px = (q.x * inv_depth * inv_scale_x_ + 1.0f) * half_width_;
+        py = (1.0f - q.y * inv_depth * inv_scale_y_) * half_height_;
+        return std::isfinite(px) && std::isfinite(py);
+    }
 
     Mat4 world_to_camera_;
     Vec3 eye_;
-    float scale_x_, scale_y_;
-    int width_, height_;
+    float inv_scale_x_, inv_scale_y_;  // 1 / tan of the half field of view, per axis
+    float half_width_, half_height_;
 };
 
 }  // namespace pathfarm::coord
