@@ -1,13 +1,17 @@
 // The denoiser's cost per frame (issue: real-time reconstruction): a 1-spp frame of a scene
 // with its first hits (Embree), then the denoiser run repeatedly on it as the farm runs it
 // (temporal: accumulation, variance, wavelet; over a still view and under a turning camera) and
-// as pathfarm-render --denoise does (one frame alone). Prints CSV rows
+// as pathfarm-render --denoise does (one frame alone); and under the turning camera once more,
+// each frame after 90 ms of idle cores, as the demo runs it at 10 frames/s (the display stage
+// starts while the tracers wait for the next frame: docs/denoise.md). Prints CSV rows
 // `scene,width,height,mode,threads,radius,median_ms,p95_ms,runs`. Arguments: scene spec, runs,
 // threads (0: all), the wavelet's kernel radius (1: 3x3, 2: 5x5), then width x height pairs.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -78,10 +82,10 @@ void run(const std::string& spec, const SceneModel& scene, int w, int h, int run
     // A still view (the same frame again), a turning camera (two views half a degree apart,
     // alternated: every pixel is reprojected) and one frame alone.
     const Frame f = render_frame(scene, w, h, 0.0f), turned = render_frame(scene, w, h, 0.5f);
-    std::vector<double> temporal, moving, single;
+    std::vector<double> temporal, moving, single, after_idle;
     coord::DenoiseOptions options;
     options.atrous.radius = radius;
-    coord::Denoiser still(options), turning(options);
+    coord::Denoiser still(options), turning(options), turning_after_idle(options);
     for (int r = 0; r < runs; ++r) {
         // The farm hands the denoiser a frame view it owns (moved in): copy it before the clock.
         FloatImage a = f.image, b = f.image;
@@ -99,8 +103,19 @@ void run(const std::string& spec, const SceneModel& scene, int w, int h, int run
         coord::denoise_frame(b, f.view.gbuffer, f.view.camera, options);
         single.push_back(t3.milliseconds());
     }
-    for (const auto& [mode, ms] : {std::pair{"temporal", temporal}, std::pair{"moving", moving},
-                                   std::pair{"single", single}})
+    // Apart from the loop above: the idle slows the next 10 ms or more of any work.
+    for (int r = 0; r < runs; ++r) {
+        const Frame& m = r % 2 ? turned : f;
+        FloatImage d = m.image;
+        coord::FrameView view = m.view;
+        std::this_thread::sleep_for(std::chrono::milliseconds(90));
+        const Timer t4;
+        turning_after_idle.filter(d, std::move(view), true);
+        after_idle.push_back(t4.milliseconds());
+    }
+    for (const auto& [mode, ms] :
+         {std::pair{"temporal", temporal}, std::pair{"moving", moving}, std::pair{"single", single},
+          std::pair{"moving_after_idle", after_idle}})
         std::printf("%s,%d,%d,%s,%d,%d,%.3f,%.3f,%d\n", spec.c_str(), w, h, mode, threads, radius,
                     percentile(ms, 0.5), percentile(ms, 0.95), runs);
 }
