@@ -89,13 +89,31 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
         run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 --out " + dir + "/x.bmpx");
     EXPECT_EQ(ext.exit_code, 2) << ext.output;
     EXPECT_NE(run_cli("--help").output.find("--max-depth"), std::string::npos);
-    // --seconds 0 rendered the default 16 spp before instead of refusing the value.
-    for (const std::string seconds : {"0", "-1", "nan"}) {
+    // --seconds 0 rendered the default 16 spp before instead of refusing the value, and inf
+    // never finished.
+    for (const std::string seconds : {"0", "-1", "nan", "inf"}) {
         const CliRun time = run_cli("--scene builtin:cornell --width 8 --height 8 --seconds " +
                                     seconds + " --out " + dir + "/x.pfm");
         EXPECT_EQ(time.exit_code, 2) << seconds << ": " << time.output;
         EXPECT_NE(time.output.find("--seconds "), std::string::npos) << time.output;
         EXPECT_EQ(time.output.find("samples_per_s="), std::string::npos) << time.output;
+    }
+    // Values that rendered silently before: a NaN pose, a black PNG, a camera check blaming
+    // --up for a NaN point.
+    for (const auto& [option, value] :
+         std::vector<std::pair<std::string, std::string>>{{"--time", "nan"},
+                                                          {"--exposure", "-1"},
+                                                          {"--exposure", "nan"},
+                                                          {"--look-from", "nan 0.3 0"},
+                                                          {"--look-at", "0.3 inf 0"}}) {
+        const std::string camera = option == "--look-from"
+                                       ? " --look-at 0.3 0.1 0"
+                                       : (option == "--look-at" ? " --look-from 0.3 0.3 0" : "");
+        const CliRun bad = run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 " +
+                                   option + " " + value + camera + " --out " + dir + "/x.png");
+        EXPECT_EQ(bad.exit_code, 2) << option << " " << value << ": " << bad.output;
+        EXPECT_NE(bad.output.find(option + " "), std::string::npos) << bad.output;
+        EXPECT_NE(bad.output.find("must be"), std::string::npos) << bad.output;
     }
     // An up that cannot orient the view rendered a black image (a NaN camera) before.
     for (const std::string up : {"0 0 0", "0 1 0", "0 -3 0"}) {

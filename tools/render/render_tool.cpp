@@ -2,6 +2,10 @@
 // budgets) and writes the image.
 #include "tools/render/render_tool.h"
 
+#include <cmath>
+#include <optional>
+#include <utility>
+
 #include <spdlog/spdlog.h>
 
 #include "common/base/timer.h"
@@ -53,10 +57,26 @@ Status check_options(const RenderToolOptions& o) {
     if (o.max_depth < 0 || o.max_depth > 1024)
         return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024",
                           o.max_depth);
-    // Written as !(x > 0) so that NaN is refused too.
-    if (o.seconds && !(*o.seconds > 0.0))
-        return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive",
+    // Written as !(x > 0) so that NaN is refused too; infinite seconds would never finish.
+    if (o.seconds && !(*o.seconds > 0.0 && std::isfinite(*o.seconds)))
+        return make_error(ErrorCode::invalid_argument, "--seconds {}: must be positive and finite",
                           *o.seconds);
+    // A NaN time posed the clip somewhere and a NaN or negative exposure wrote a black PNG,
+    // both silently; a NaN point made the camera check blame --up.
+    if (o.time && !std::isfinite(*o.time))
+        return make_error(ErrorCode::invalid_argument, "--time {}: must be finite", *o.time);
+    if (!(o.exposure > 0.0f && std::isfinite(o.exposure)))
+        return make_error(ErrorCode::invalid_argument, "--exposure {}: must be positive and finite",
+                          o.exposure);
+    const auto finite = [](const Vec3& v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    for (const auto& [flag, point] :
+         {std::pair{"--look-from", o.look_from}, std::pair{"--look-at", o.look_at},
+          std::pair{"--up", std::optional<Vec3>(o.up)}})
+        if (point && !finite(*point))
+            return make_error(ErrorCode::invalid_argument, "{} {} {} {}: must be finite", flag,
+                              point->x, point->y, point->z);
     return check_image_format(o.out);
 }
 
