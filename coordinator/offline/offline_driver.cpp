@@ -1,6 +1,8 @@
 // Offline frame loop.
 #include "coordinator/offline/offline_driver.h"
 
+#include <cmath>
+
 #include <spdlog/spdlog.h>
 
 #include "common/base/timer.h"
@@ -40,6 +42,8 @@ Result<std::vector<OfflineFrameStats>> run_offline(SceneModel scene, const Offli
     if (o.frames <= 0 || !(o.fps > 0.0))
         return make_error(ErrorCode::invalid_argument, "--frames {} / --fps {}: must be positive",
                           o.frames, o.fps);
+    if (!std::isfinite(o.fps))  // every frame at time 0
+        return make_error(ErrorCode::invalid_argument, "--fps {}: must be finite", o.fps);
     if (o.clip && (*o.clip < 0 || *o.clip >= int(scene.animations.size())))
         return make_error(ErrorCode::invalid_argument, "--clip {}: scene has {} clips", *o.clip,
                           scene.animations.size());

@@ -342,6 +342,8 @@ Status check_options(const FarmOptions& o) {
     if (o.width <= 0 || o.height <= 0 || o.spp <= 0 || !(o.fps > 0.0) || o.deadline_ms <= 0)
         return make_error(ErrorCode::invalid_argument,
                           "--width/--height/--spp/--fps/--deadline-ms must be positive");
+    if (!std::isfinite(o.fps))  // every frame at time 0: a game that never moves
+        return make_error(ErrorCode::invalid_argument, "--fps {}: must be finite", o.fps);
     if (o.jpeg_quality < 1 || o.jpeg_quality > 100)
         return make_error(ErrorCode::invalid_argument, "--jpeg-quality {}: must be in [1, 100]",
                           o.jpeg_quality);

@@ -175,6 +175,19 @@ TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
     EXPECT_EQ(missing.exit_code, 1);
     EXPECT_NE(missing.output.find("none.glb"), std::string::npos);
     EXPECT_EQ(run_cli("--export-at 1", PATHFARM_COORDINATOR_EXE).exit_code, 2);
+    // An infinite game clock put every frame at time 0, offline and in the farm, silently.
+    for (const std::string mode :
+         {"--offline --frames 2", "--tracer-port 0 --insecure-plaintext"}) {
+        // Under timeout: without the check the farm waits for tracers.
+        const CliRun clock =
+            run_cli("--scene builtin:cornell --width 16 --height 16 --fps inf " + mode,
+                    ("PATHFARM_SECRET=0123456789abcdef0123456789abcdef timeout 30 " +
+                     std::string(PATHFARM_COORDINATOR_EXE))
+                        .c_str());
+        EXPECT_EQ(clock.exit_code, 2) << mode << ": " << clock.output;
+        EXPECT_NE(clock.output.find("--fps inf: must be finite"), std::string::npos)
+            << clock.output;
+    }
 }
 
 std::vector<std::vector<double>> read_csv(const std::string& path, std::string& header) {
