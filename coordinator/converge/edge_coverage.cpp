@@ -68,11 +68,6 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
         if (behind_[i] & !keep_[i]) edges_.push_back(uint32_t(i));
 }
 
-// Both sides' light at pixel i in one pass over its 5x5 window: its own surface (`behind`)
-// and the nearer ones across the edge (`front`). Each is the pixel of median luminance among
-// that side's pixels in the window that are not on an edge themselves (their light is their
-// surface's alone), or else among its 3x3: the median, since a pixel beside the edge may hold a
-// sample of the other side too. False when a side has no pixel there.
 namespace {
 
 // A pixel's luminance and index as one integer ordered as (luminance, index): the median's

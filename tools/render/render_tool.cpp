@@ -68,13 +68,10 @@ Status check_options(const RenderToolOptions& o) {
     if (!(o.exposure > 0.0f && std::isfinite(o.exposure)))
         return make_error(ErrorCode::invalid_argument, "--exposure {}: must be positive and finite",
                           o.exposure);
-    const auto finite = [](const Vec3& v) {
-        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-    };
     for (const auto& [flag, point] :
          {std::pair{"--look-from", o.look_from}, std::pair{"--look-at", o.look_at},
           std::pair{"--up", std::optional<Vec3>(o.up)}})
-        if (point && !finite(*point))
+        if (point && !is_finite(*point))
             return make_error(ErrorCode::invalid_argument, "{} {} {} {}: must be finite", flag,
                               point->x, point->y, point->z);
     return check_image_format(o.out);
