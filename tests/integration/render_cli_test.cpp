@@ -115,6 +115,15 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
         EXPECT_NE(bad.output.find(option + " "), std::string::npos) << bad.output;
         EXPECT_NE(bad.output.find("must be"), std::string::npos) << bad.output;
     }
+    // The --look-from camera's settings without it: ignored before, even a NaN field of view,
+    // and the scene's own camera rendered.
+    for (const std::string option : {"--fov nan", "--fov 60", "--look-at 0 0 0", "--up 0 0 1"}) {
+        const CliRun alone = run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 " +
+                                     option + " --out " + dir + "/x.pfm");
+        EXPECT_EQ(alone.exit_code, 2) << option << ": " << alone.output;
+        EXPECT_NE(alone.output.find("requires --look-from"), std::string::npos) << alone.output;
+        EXPECT_EQ(alone.output.find("samples_per_s="), std::string::npos) << alone.output;
+    }
     // An up that cannot orient the view rendered a black image (a NaN camera) before.
     for (const std::string up : {"0 0 0", "0 1 0", "0 -3 0"}) {
         const CliRun view = run_cli(

@@ -51,13 +51,19 @@ void add_camera_options(CLI::App& app, CommandLine& c) {
     app.add_option("--camera", c.o.camera,
                    "Camera index (-1: the scene's first camera or a framing of its bounds)")
         ->capture_default_str();
-    app.add_option("--look-from", c.look_from, "Camera position x y z (overrides scene cameras)")
-        ->expected(3);
-    app.add_option("--look-at", c.look_at, "Point the --look-from camera looks at")->expected(3);
+    CLI::Option* look_from = app.add_option("--look-from", c.look_from,
+                                            "Camera position x y z (overrides scene cameras)")
+                                 ->expected(3);
+    // Without --look-from these were ignored, even a NaN: the scene's camera rendered silently.
+    app.add_option("--look-at", c.look_at, "Point the --look-from camera looks at")
+        ->expected(3)
+        ->needs(look_from);
     app.add_option("--up", c.up, "Up vector of the --look-from camera (default 0 1 0)")
-        ->expected(3);
+        ->expected(3)
+        ->needs(look_from);
     app.add_option("--fov", c.o.fov_degrees, "Vertical field of view of --look-from, degrees")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->needs(look_from);
     c.time_option = app.add_option("--time", c.time,
                                    "Animated scenes: time of the clip's own timeline, seconds");
     app.add_option("--clip", c.o.clip, "Animation clip by name or index (default: the first)");
