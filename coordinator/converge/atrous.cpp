@@ -244,13 +244,12 @@ void AtrousFilter::allocate(int width, int height, int pad) {
                         &rgb_[1][0], &rgb_[1][1], &rgb_[1][2], &var_[0],    &var_[1]};
     constexpr std::size_t kPage = 1024, kStagger = 16;  // in floats: 4 KiB, 64 bytes
     const std::size_t plane = (n + kPage - 1) / kPage * kPage + kStagger;
-    planes_.assign(plane * std::size(planes) + kPage, 0.0f);  // the padding stays zero
-    // From the first page boundary in the allocation (a zero normal is no one's tap).
-    const std::size_t first =
-        (kPage - (reinterpret_cast<std::uintptr_t>(planes_.data()) / sizeof(float)) % kPage) %
-        kPage;
+    // Zeroed, and the padding stays zero (a zero normal is no one's tap); the buffer starts on
+    // a page boundary.
+    planes_ = HugePageBuffer(plane * std::size(planes) * sizeof(float));
+    float* const first = static_cast<float*>(planes_.data());
     for (std::size_t p = 0; p < std::size(planes); ++p)
-        *planes[p] = planes_.data() + first + p * plane;
+        *planes[p] = first + p * plane;
 }
 
 void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "common/base/memory.h"
 #include "common/film/film.h"
 #include "common/scene/camera.h"
 #include "coordinator/converge/gbuffer.h"
@@ -71,8 +72,9 @@ private:
     float *rgb_[2][3] = {}, *var_[2] = {};
     // The 15 planes above, in one allocation, each starting 64 bytes further into a 4 KiB page
     // than the last: a tap reads the same pixel of every plane, and planes at one page offset
-    // (separate allocations, each page-aligned) compete for the same cache sets.
-    std::vector<float> planes_;
+    // (separate allocations, each page-aligned) compete for the same cache sets. On huge
+    // pages where the system allows (HugePageBuffer).
+    HugePageBuffer planes_;
 };
 
 }  // namespace pathfarm::coord

@@ -188,12 +188,12 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
     return stats;
 }
 
-void denoise_frame(FloatImage& image, const GBuffer& gbuffer, const Camera& camera,
+void denoise_frame(FloatImage& image, GBuffer gbuffer, const Camera& camera,
                    const DenoiseOptions& options) {
     Denoiser denoiser(options);
     FrameView view;
     view.camera = camera;
-    view.gbuffer = gbuffer;
+    view.gbuffer = std::move(gbuffer);
     denoiser.filter(image, std::move(view), false);
 }
 

@@ -76,7 +76,9 @@ private:
 };
 
 // One frame alone (pathfarm-render --denoise): the spatial filter with a spatial variance.
-void denoise_frame(FloatImage& image, const GBuffer& gbuffer, const Camera& camera,
+// The G-buffer is taken by value: a caller done with it moves it in (a copy is 60 bytes a
+// pixel, every page of it a fault in a fresh process).
+void denoise_frame(FloatImage& image, GBuffer gbuffer, const Camera& camera,
                    const DenoiseOptions& options = {});
 
 }  // namespace pathfarm::coord

@@ -1,10 +1,13 @@
 // pathfarm-render command line: parses flags into RenderToolOptions and runs the render.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
 #include <fmt/core.h>
+#include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/base/memory.h"
 #include "common/cli/command_line.h"
 #include "tools/render/render_tool.h"
 #include "tracer-node/backend/backend_cli.h"
@@ -129,6 +132,12 @@ int main(int argc, char** argv) {
     add_integrator_options(app, c);
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-render"))
         return *exit_code;
+    // One frame, each buffer allocated once and touched once: on huge pages, a fault per 2 MiB
+    // instead of per 4 KiB (about 500 bytes a pixel: image, first hits, G-buffer, denoiser).
+    const std::size_t pixels = std::size_t(c.o.width) * std::size_t(std::max(c.o.height, 0));
+    if (!pathfarm::back_main_heap_with_huge_pages(
+            std::min(pixels * 512 + (std::size_t(64) << 20), std::size_t(1) << 30)))
+        spdlog::debug("the main heap is not on huge pages");
     const auto summary = pathfarm::tools::run_render(finish_options(c));
     if (!summary) {
         std::fprintf(stderr, "pathfarm-render: %s\n", summary.error().message.c_str());

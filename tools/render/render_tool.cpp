@@ -236,7 +236,7 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
         spdlog::warn("{} samples were NaN/Inf and were discarded", counters.nonfinite_samples);
     if (o.denoise) {
         const Timer denoise_timer;
-        denoise(image, hits, *camera);
+        denoise(image, std::move(hits), *camera);
         summary.denoise_ms = denoise_timer.milliseconds();
         spdlog::info("denoised in {:.1f} ms", summary.denoise_ms);
     }
