@@ -1,6 +1,8 @@
 // pathfarm-client command line: the SDL2 window, or --headless.
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
@@ -69,6 +71,16 @@ pathfarm::Status finish_options(CommandLine& c) {
     o.window = !c.headless;
     auto endpoint = pathfarm::parse_endpoint("--connect", c.connect);
     if (!endpoint) return endpoint.error();
+    // Taken silently before: a NaN or infinite turn rate (the coordinator drops non-finite
+    // input, so the scripted player stood still) and negative frame counts.
+    if (!std::isfinite(o.turn_rate))
+        return pathfarm::make_error(pathfarm::ErrorCode::invalid_argument,
+                                    "--turn-rate {}: must be finite", o.turn_rate);
+    for (const auto& [flag, value] :
+         {std::pair{"--frames", o.frames}, std::pair{"--screenshot-frame", o.screenshot_frame}})
+        if (value < 0)
+            return pathfarm::make_error(pathfarm::ErrorCode::invalid_argument,
+                                        "{} {}: must be >= 0", flag, value);
     o.host = endpoint->host;
     o.port = endpoint->port;
     o.format = c.format == "exr"    ? pathfarm::client::OutputFormat::exr

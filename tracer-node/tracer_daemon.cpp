@@ -15,6 +15,9 @@
 namespace pathfarm::tracer {
 namespace {
 
+// --slowdown's largest value: a machine a thousand times slower is as slow as a test needs.
+constexpr double kMaxSlowdown = 1000.0;
+
 // One connection's lifetime: messages until it closes or the replica needs a fresh snapshot.
 void serve_session(const TracerOptions& o, RenderBackend& backend, net::Session& session,
                    Inbox& inbox, const std::atomic<bool>& stop) {
@@ -45,8 +48,11 @@ Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     if (!kind) return kind.error();
     auto backend = create_backend(*kind, BackendOptions{o.threads, o.cl_platform, o.cl_device});
     if (!backend) return backend.error();
-    if (!(o.slowdown >= 1.0))
-        return make_error(ErrorCode::invalid_argument, "--slowdown {}: must be >= 1", o.slowdown);
+    // An infinite or huge slowdown slept forever (or overflowed the sleep's duration): the
+    // coordinator saw a tracer that never answered, the tracer no error.
+    if (!(o.slowdown >= 1.0 && o.slowdown <= kMaxSlowdown))
+        return make_error(ErrorCode::invalid_argument, "--slowdown {}: must be in [1, {}]",
+                          o.slowdown, kMaxSlowdown);
     if (!(o.hiccup_p >= 0.0 && o.hiccup_p <= 1.0))
         return make_error(ErrorCode::invalid_argument, "--hiccup-p {}: must be in [0, 1]",
                           o.hiccup_p);

@@ -6,6 +6,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <array>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -271,6 +272,29 @@ TEST(FarmCli, BadInputIsAOneLineError) {
     EXPECT_EQ(bad_hiccup.wait(10s), std::optional<int>(2));
     EXPECT_NE(test::read_file(farm.dir + "/d.log").find("--hiccup-p 1.5: must be in [0, 1]"),
               std::string::npos);
+    // The client took a NaN turn rate (its player stood still) and negative frame counts.
+    for (const auto& [flag, value, message] :
+         std::vector<std::array<std::string, 3>>{{"--turn-rate", "nan", "must be finite"},
+                                                 {"--turn-rate", "inf", "must be finite"},
+                                                 {"--frames", "-3", "must be >= 0"},
+                                                 {"--screenshot-frame", "-1", "must be >= 0"}}) {
+        Process bad_client({kClient, "--headless", "--connect", "127.0.0.1:1", flag, value},
+                           farm.dir + "/f.log");
+        EXPECT_EQ(bad_client.wait(10s), std::optional<int>(2)) << flag << " " << value;
+        EXPECT_NE(test::read_file(farm.dir + "/f.log").find(flag + " " + value + ": " + message),
+                  std::string::npos)
+            << test::read_file(farm.dir + "/f.log");
+    }
+    // An infinite slowdown was taken: the tracer slept forever after its first tile.
+    for (const std::string slowdown : {"inf", "nan", "0.5", "5000"}) {
+        Process bad_slowdown({kTracer, "--coordinator", "127.0.0.1:1", "--slowdown", slowdown},
+                             farm.dir + "/e.log");
+        EXPECT_EQ(bad_slowdown.wait(10s), std::optional<int>(2)) << slowdown;
+        EXPECT_NE(test::read_file(farm.dir + "/e.log")
+                      .find("--slowdown " + slowdown + ": must be in [1, 1000]"),
+                  std::string::npos)
+            << slowdown << ": " << test::read_file(farm.dir + "/e.log");
+    }
 }
 
 // A tracer that gives up on a coordinator it cannot reach fails with the last attempt's reason
