@@ -152,6 +152,7 @@ void Denoiser::estimate_variance(const std::vector<Vec2>& moments, const std::ve
 ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal) {
     const GBuffer& g = view.gbuffer;
     const int w = image.width, h = image.height;
+    output_is_taa_ = false;
     if (g.width != w || g.height != h) {
         output_ = image;  // no G-buffer for this frame: nothing to stop the filter at edges
         return {};
@@ -183,8 +184,12 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
     atrous_.filter(image, variance_, !temporal, albedo_);  // and remodulated
     if (temporal && o_.edges.model_frames > 0.0f)
         edges_.apply(image, accumulator_.history_frames());
-    if (temporal && o_.taa_alpha > 0.0f) taa_.apply(image, accumulator_.sources());
-    output_ = image;
+    if (temporal && o_.taa_alpha > 0.0f) {
+        taa_.apply(image, accumulator_.sources());  // keeps a copy of the output: ours
+        output_is_taa_ = true;
+    } else {
+        output_ = image;
+    }
     return stats;
 }
 

@@ -50,12 +50,15 @@ public:
     // the temporal accumulation's statistics ({1, 0, 1} for a frame alone).
     ConvergeStats filter(FloatImage& image, FrameView view, bool temporal);
     void reset() {
+        if (output_is_taa_) output_ = taa_.history();  // the last output stays shown
+        output_is_taa_ = false;
         accumulator_.reset();
         taa_.reset();
     }
     float min_history_frames() const { return accumulator_.min_history_frames(); }
     const std::vector<float>& history_frames() const { return accumulator_.history_frames(); }
-    const FloatImage& output() const { return output_; }  // the last denoised image
+    // The last denoised image.
+    const FloatImage& output() const { return output_is_taa_ ? taa_.history() : output_; }
 
 private:
     void prepare(const GBuffer& g, const Camera& camera);
@@ -67,7 +70,10 @@ private:
     AtrousFilter atrous_;
     TemporalAntialias taa_;
     EdgeCoverage edges_;
+    // The last output where the anti-aliasing step does not keep it (a copy of a frame less
+    // on the temporal path).
     FloatImage output_;
+    bool output_is_taa_ = false;
     // Per-frame planes, kept to spare the allocations.
     std::vector<uint8_t> filter_mask_, near_sharp_;
     std::vector<Rgb> albedo_, albedo_tmp_;

@@ -30,6 +30,8 @@ public:
     // frame, a size change or sources of another size leave `image` as it is.
     void apply(FloatImage& image, const std::vector<Vec2>& sources);
     void reset() { history_ = FloatImage(); }
+    // The last image apply() left (equal to it; empty before the first or after reset()).
+    const FloatImage& history() const { return history_; }
 
 private:
     float alpha_;

@@ -353,7 +353,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     const Reprojection r = reproject(motion, project_prev, camera_ray, prev, view,
                                                      o_.depth_tolerance, x, y);
                     sources_[std::size_t(y) * w + x] = r.object_moves ? Vec2(kNoSource) : r.source;
-                    if (!r.valid) {
+                    if (!r.valid) {  // the image keeps c
                         next_history_.set_pixel(x, y, c);
                         next_frames_[std::size_t(y) * w + x] = s;
                         t.f += 1.0, t.frames += s;
@@ -370,7 +370,9 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                         k = std::min(k, s / floor);
                     }
                     const float f = s / k;
-                    next_history_.set_pixel(x, y, history + f * (c - history));
+                    const Rgb blended = history + f * (c - history);
+                    next_history_.set_pixel(x, y, blended);
+                    image.set_pixel(x, y, blended);  // read above, nowhere else in this loop
                     const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
                     m = mh + f * (m - mh);
                     next_frames_[std::size_t(y) * w + x] = k;
@@ -379,7 +381,6 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
             return t;
         },
         [](const Totals& a, const Totals& b) { return a + b; });
-    image.rgb = next_history_.rgb;
     keep(std::move(view));
     return {totals.f / double(n), totals.kept / double(n), totals.frames / double(n)};
 }

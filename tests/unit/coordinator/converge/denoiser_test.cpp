@@ -84,6 +84,9 @@ TEST(Denoiser, BeatsConvergingAloneOnAStillView) {
         FloatImage denoised = raw, converged = raw;
         denoiser.filter(denoised, still().view, true);
         accumulator.blend(converged, still().view);
+        // What the farm shows again for a frame it does not render.
+        EXPECT_EQ(denoiser.output().rgb, denoised.rgb) << "frame " << k;
+        EXPECT_EQ(accumulator.output().rgb, converged.rgb) << "frame " << k;
         const double d = relative_mse(denoised, reference()),
                      c = relative_mse(converged, reference());
         EXPECT_LT(d, c) << "frame " << k;
@@ -91,6 +94,9 @@ TEST(Denoiser, BeatsConvergingAloneOnAStillView) {
         converged_sum += c;
     }
     EXPECT_LT(denoised_sum, 0.5 * converged_sum) << denoised_sum << " against " << converged_sum;
+    const FloatImage last = denoiser.output();
+    denoiser.reset();  // a cut: the history goes, the last output stays until the next frame
+    EXPECT_EQ(denoiser.output().rgb, last.rgb);
 }
 
 }  // namespace
