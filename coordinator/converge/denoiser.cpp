@@ -182,8 +182,9 @@ ConvergeStats Denoiser::filter(FloatImage& image, FrameView view, bool temporal)
         estimate_variance(moments_, nullptr, w, h);
     }
     atrous_.filter(image, variance_, !temporal, albedo_);  // and remodulated
-    if (temporal && o_.edges.model_frames > 0.0f)
-        edges_.apply(image, accumulator_.history_frames());
+    if (temporal && o_.edges.model_frames > 0.0f)  // the view's G-buffer is the accumulator's now
+        edges_.apply(image, accumulator_.history_frames(), accumulator_.gbuffer()->instance,
+                     accumulator_.gbuffer()->distance);
     if (temporal && o_.taa_alpha > 0.0f) {
         taa_.apply(image, accumulator_.sources());  // keeps a copy of the output: ours
         output_is_taa_ = true;

@@ -39,8 +39,6 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
                                 const std::vector<uint8_t>& filtered, int width, int height) {
     width_ = width;
     height_ = height;
-    surface_ = surface;
-    distance_ = distance;
     const std::size_t n = surface.size();
     keep_.resize(n);
     on_edge_.resize(n);
@@ -52,12 +50,12 @@ void EdgeCoverage::set_surfaces(const std::vector<uint32_t>& surface,
         const std::size_t up = std::size_t(std::max(0, y - 1)) * width,
                           down = std::size_t(std::min(height - 1, y + 1)) * width;
         const auto run = [&](int begin, int end, int left, int right) {
-            classify(&surface_[row], &surface_[up], &surface_[down], &distance_[row],
-                     &distance_[up], &distance_[down], &across_[row], &behind_[row], &on_edge_[row],
-                     begin, end, left, right);
+            classify(&surface[row], &surface[up], &surface[down], &distance[row], &distance[up],
+                     &distance[down], &across_[row], &behind_[row], &on_edge_[row], begin, end,
+                     left, right);
         };
         for (std::size_t i = row; i < row + std::size_t(width); ++i)
-            keep_[i] = uint8_t(surface_[i] != 0 && filtered[i] == 0);
+            keep_[i] = uint8_t(surface[i] != 0 && filtered[i] == 0);
         if (width == 1) return run(0, 1, 0, 0);
         run(0, 1, 0, 1);
         run(1, width - 1, -1, 1);
@@ -134,9 +132,11 @@ Rgb EdgeCoverage::blended(const FloatImage& image, std::size_t i, float frames) 
     return (1.0f - w) * own + w * mix;
 }
 
-void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames) {
+void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames,
+                         const std::vector<uint32_t>& surface, const std::vector<float>& distance) {
+    const std::size_t n = std::size_t(width_) * std::size_t(height_);
     if (o_.model_frames <= 0.0f || image.width != width_ || image.height != height_ ||
-        frames.size() != surface_.size())
+        frames.size() != n || surface.size() != n || distance.size() != n || keep_.size() != n)
         return;
     // Pixels whose history would leave the mix less than 1/16 of the weight are left as they
     // are: a still view's edges cost nothing once converged.
@@ -145,8 +145,10 @@ void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames) {
     for (const uint32_t i : edges_)
         if (frames[i] <= most_frames) short_history_.push_back(i);
     if (short_history_.empty()) return;
+    surface_ = surface.data();
+    distance_ = distance.data();
     // Every pixel's luminance once (a window reads each about 25 times).
-    luminance_.resize(surface_.size());
+    luminance_.resize(n);
     parallel_rows(height_, [&](int y) {
         const float* in = &image.rgb[std::size_t(y) * width_ * 3];
         float* out = &luminance_[std::size_t(y) * width_];
@@ -164,6 +166,8 @@ void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames) {
         const std::size_t i = short_history_[e];
         image.set_pixel(int(i % std::size_t(width_)), int(i / std::size_t(width_)), blended_[e]);
     }
+    surface_ = nullptr;
+    distance_ = nullptr;
 }
 
 }  // namespace pathfarm::coord

@@ -43,8 +43,11 @@ public:
                       const std::vector<uint8_t>& filtered, int width, int height);
     // Blends the far-side edge pixels of `image` (the frame's output, the surfaces' size) whose
     // light looks like the front surface's towards the mix; `frames[i]`: pixel i's history in
-    // frames (>= 1).
-    void apply(FloatImage& image, const std::vector<float>& frames);
+    // frames (>= 1). `surface` and `distance` as given to set_surfaces (passed again rather
+    // than copied there: the denoiser hands the frame's G-buffer to the accumulator between
+    // the two calls).
+    void apply(FloatImage& image, const std::vector<float>& frames,
+               const std::vector<uint32_t>& surface, const std::vector<float>& distance);
 
 private:
     bool sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb& front) const;
@@ -52,8 +55,8 @@ private:
 
     EdgeCoverageOptions o_;
     int width_ = 0, height_ = 0;
-    std::vector<uint32_t> surface_;
-    std::vector<float> distance_;
+    const uint32_t* surface_ = nullptr;  // apply()'s, while it runs
+    const float* distance_ = nullptr;
     std::vector<uint8_t> keep_;            // hit pixels the wavelet does not filter
     std::vector<uint8_t> on_edge_;         // a 4-neighbour sees another surface
     std::vector<uint8_t> across_;          // how many 4-neighbours do

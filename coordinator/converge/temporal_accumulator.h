@@ -81,6 +81,9 @@ public:
     const std::vector<Vec2>& sources() const { return sources_; }
     float min_history_frames() const;                      // 0 before the first frame
     const FloatImage& output() const { return history_; }  // the last blended image
+    // The last blended frame's G-buffer (kept for the next frame's reprojection); null before
+    // the first frame.
+    const GBuffer* gbuffer() const { return previous_ ? &previous_->gbuffer : nullptr; }
 
 private:
     void start_over(const FloatImage& image, FrameView view);  // this frame's samples alone
