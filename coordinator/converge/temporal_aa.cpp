@@ -3,6 +3,7 @@
 #include "coordinator/converge/temporal_aa.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "common/film/resample.h"
 #include "coordinator/converge/parallel_rows.h"
@@ -48,6 +49,9 @@ void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& source
     }
     row_min_max(image, row_min_, row_max_);
     carried_.resize(floats);
+    // The new history is written beside the output as each row is blended (the rows below
+    // still read the old one), not copied after.
+    if (next_.width != w || next_.height != h) next_ = FloatImage(w, h);
     parallel_rows(h, [&](int y) {
         const std::size_t row = std::size_t(y) * w * 3;
         const std::size_t up = std::size_t(std::max(0, y - 1)) * w * 3,
@@ -71,15 +75,16 @@ void TemporalAntialias::apply(FloatImage& image, const std::vector<Vec2>& source
         const float *lo_up = &row_min_[up], *lo_mid = &row_min_[row], *lo_down = &row_min_[down];
         const float *hi_up = &row_max_[up], *hi_mid = &row_max_[row], *hi_down = &row_max_[down];
         float* out = &image.rgb[row];
+        float* next = &next_.rgb[row];
         const float alpha = alpha_;
         for (int j = 0; j < 3 * w; ++j) {
             const float lo = std::min(std::min(lo_up[j], lo_down[j]), lo_mid[j]);
             const float hi = std::max(std::max(hi_up[j], hi_down[j]), hi_mid[j]);
             const float kept = std::min(std::max(carried[j], lo), hi);
-            out[j] = kept + alpha * (out[j] - kept);
+            out[j] = next[j] = kept + alpha * (out[j] - kept);
         }
     });
-    history_.rgb = image.rgb;
+    std::swap(history_, next_);
 }
 
 }  // namespace pathfarm::coord

@@ -36,6 +36,7 @@ public:
 private:
     float alpha_;
     FloatImage history_;
+    FloatImage next_;                       // the history being written, swapped in at the end
     std::vector<float> row_min_, row_max_;  // each float's min and max over x-1..x+1
     std::vector<float> carried_;            // the history where each pixel's surface was
 };
