@@ -1,5 +1,6 @@
 // pathfarm-coordinator command line: the farm (--tracer-port), the offline frame loop
 // (--offline) and pose export (--export-at).
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <numeric>
@@ -39,6 +40,9 @@ pathfarm::Result<std::optional<int>> clip_index(const pathfarm::SceneModel& scen
 
 int export_pose(pathfarm::SceneModel scene, const std::string& clip_name, double at,
                 const std::string& path) {
+    if (!std::isfinite(at))  // a NaN time posed the clip somewhere, silently
+        return fail({pathfarm::ErrorCode::invalid_argument,
+                     fmt::format("--export-at {}: must be finite", at)});
     if (!scene.animations.empty()) {
         auto clip = pathfarm::coord::find_clip(scene, clip_name.empty() ? "0" : clip_name);
         if (!clip) return fail(clip.error());
@@ -79,7 +83,8 @@ int offline(pathfarm::SceneModel scene, const std::string& clip_name,
 struct Command {
     std::string scene_spec, export_path, clip_name, secret_file, stats_csv, http_token_file;
     double export_at = 0.0, fps = 30.0;
-    int frames = -1;
+    int frames = -1;  // unset: the mode's default
+    CLI::Option* frames_option = nullptr;
     bool offline_mode = false, no_converge = false;
     std::string denoise = "on", light_sampler = "tree";
     pathfarm::coord::OfflineOptions o;
@@ -122,8 +127,8 @@ std::string columns(std::string_view list) { return " (columns: " + std::string(
 void add_scene_options(CLI::App& app, Command& c) {
     app.add_option("--scene", c.scene_spec, "Scene file (.gltf .glb .obj .ply) or builtin:NAME")
         ->required();
-    app.add_option("--frames", c.frames,
-                   "Frames to run (offline default 60; farm default: until stopped)");
+    c.frames_option = app.add_option(
+        "--frames", c.frames, "Frames to run (offline default 60; farm default: until stopped)");
     app.add_option("--fps", c.fps, "Game clock: frame f shows time f / fps")->capture_default_str();
     app.add_option("--clip", c.clip_name, "Animation clip by name or index (default: the first)");
     app.add_option("--stats-csv", c.stats_csv,
@@ -261,6 +266,9 @@ int run(Command& c) {
             "pathfarm-coordinator: nothing to do (use --tracer-port, --offline or --export-at)\n");
         return 2;
     }
+    if (c.frames_option->count() > 0 && c.frames < 0)  // was taken as unset, silently
+        return fail({pathfarm::ErrorCode::invalid_argument,
+                     fmt::format("--frames {}: must be >= 0", c.frames)});
     auto scene = pathfarm::load_scene(c.scene_spec);
     if (!scene) return fail(scene.error());
     if (!c.export_path.empty()) {

@@ -44,6 +44,10 @@ Result<std::vector<OfflineFrameStats>> run_offline(SceneModel scene, const Offli
                           o.frames, o.fps);
     if (!std::isfinite(o.fps))  // every frame at time 0
         return make_error(ErrorCode::invalid_argument, "--fps {}: must be finite", o.fps);
+    // A NaN factor never rebuilt a degraded BVH (every comparison false), silently.
+    if (!(o.rebuild_factor >= 1.0 && std::isfinite(o.rebuild_factor)))
+        return make_error(ErrorCode::invalid_argument,
+                          "--rebuild-factor {}: must be finite and >= 1", o.rebuild_factor);
     if (o.clip && (*o.clip < 0 || *o.clip >= int(scene.animations.size())))
         return make_error(ErrorCode::invalid_argument, "--clip {}: scene has {} clips", *o.clip,
                           scene.animations.size());

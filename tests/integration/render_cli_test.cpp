@@ -197,6 +197,20 @@ TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
         EXPECT_NE(clock.output.find("--fps inf: must be finite"), std::string::npos)
             << clock.output;
     }
+    // Taken silently before: a NaN export time, a NaN rebuild factor (no BVH ever rebuilt), a
+    // negative frame count (the default instead).
+    for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+             {"--export-at nan --export " + dir + "/n.obj", "--export-at nan: must be finite"},
+             {"--offline --frames 2 --rebuild-factor nan",
+              "--rebuild-factor nan: must be finite and >= 1"},
+             {"--offline --frames 2 --rebuild-factor 0.5",
+              "--rebuild-factor 0.5: must be finite and >= 1"},
+             {"--offline --frames -1", "--frames -1: must be >= 0"}}) {
+        const CliRun bad = run_cli("--scene builtin:cornell " + args, PATHFARM_COORDINATOR_EXE);
+        EXPECT_EQ(bad.exit_code, 2) << args << ": " << bad.output;
+        EXPECT_NE(bad.output.find(message), std::string::npos) << args << ": " << bad.output;
+        EXPECT_EQ(bad.output.find("replica_ok"), std::string::npos) << bad.output;
+    }
 }
 
 std::vector<std::vector<double>> read_csv(const std::string& path, std::string& header) {
