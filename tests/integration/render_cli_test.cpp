@@ -117,6 +117,12 @@ TEST(RenderCli, BadInputGivesOneLineErrors) {
     }
     // The --look-from camera's settings without it: ignored before, even a NaN field of view,
     // and the scene's own camera rendered.
+    const CliRun camera = run_cli(
+        "--scene builtin:cornell --spp 1 --width 8 --height 8 --camera -5 "
+        "--out " +
+        dir + "/x.pfm");
+    EXPECT_EQ(camera.exit_code, 2) << camera.output;
+    EXPECT_NE(camera.output.find("--camera -5: must be -1"), std::string::npos) << camera.output;
     for (const std::string option : {"--fov nan", "--fov 60", "--look-at 0 0 0", "--up 0 0 1"}) {
         const CliRun alone = run_cli("--scene builtin:cornell --spp 1 --width 8 --height 8 " +
                                      option + " --out " + dir + "/x.pfm");

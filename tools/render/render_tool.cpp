@@ -40,6 +40,10 @@ Result<Camera> pick_camera(const SceneModel& scene, const RenderToolOptions& o, 
         return c;
     }
     const int index = o.camera;
+    if (index < -1)  // was taken as -1, silently
+        return make_error(ErrorCode::invalid_argument,
+                          "--camera {}: must be -1 (the first camera or a framing) or an index",
+                          index);
     if (index >= int(scene.cameras.size()))
         return make_error(ErrorCode::invalid_argument, "--camera {}: scene has {} camera(s)", index,
                           scene.cameras.size());
