@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -118,7 +120,34 @@ std::vector<std::string> all_schemes() {
     return {"none", "robin-hood", "perfect", "perfect-smooth", "ours"};
 }
 
+namespace {
+
+// The options a run needs in range: NaN, negative or zero values ran before and printed a
+// table of zeros or NaN as if it were a result. Written as !(in range) so NaN fails too.
+Status check_options(const ReportOptions& o) {
+    const SimOptions& s = o.sim;
+    const auto bad = [](std::string_view flag, double value, std::string_view range) {
+        return make_error(ErrorCode::invalid_argument, "{} {}: must be {}", flag, value, range);
+    };
+    if (s.frames < 1) return bad("--frames", s.frames, ">= 1");
+    if (!(s.noise_sigma >= 0.0 && s.noise_sigma <= 10.0))
+        return bad("--noise", s.noise_sigma, "in [0, 10]");
+    if (!(s.hiccup_p >= 0.0 && s.hiccup_p <= 1.0)) return bad("--hiccup", s.hiccup_p, "in [0, 1]");
+    if (!(s.latency_ms >= 0.0 && s.latency_ms <= 1e6))
+        return bad("--latency-ms", s.latency_ms, "in [0, 1e6]");
+    if (!(o.speed_smoothing >= 0.01 && o.speed_smoothing <= 1.0))
+        return bad("--speed-smoothing", o.speed_smoothing, "in [0.01, 1]");
+    for (const auto& [flag, speeds] :
+         {std::pair{"--speeds2", &o.speeds2}, {"--speeds3", &o.speeds3}})
+        for (const double v : *speeds)
+            if (!(v > 0.0 && v <= 1e6)) return bad(flag, v, "in (0, 1e6]");
+    return {};
+}
+
+}  // namespace
+
 Result<std::string> run_report(const ReportOptions& o) {
+    if (Status s = check_options(o); !s) return s.error();
     Cells cells;
     std::vector<std::string> columns;
     std::ofstream csv;

@@ -4,8 +4,13 @@
 
 #include <array>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <map>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -65,6 +70,43 @@ TEST(BalanceSim, BadTracesAreErrors) {
     EXPECT_FALSE(read_cost_trace(dir + "/none.csv").ok());
     std::ofstream(dir + "/ragged.csv") << "frame,unit,cost_us\n0,0,5\n0,1,5\n1,0,3\n";
     EXPECT_FALSE(read_cost_trace(dir + "/ragged.csv").ok());
+}
+
+// Values that ran before and printed zeros or NaN as a result table.
+TEST(BalanceSim, BadOptionsAreErrors) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<std::pair<std::string, std::function<void(ReportOptions&)>>> cases{
+        {"--frames -5: must be >= 1", [](ReportOptions& o) { o.sim.frames = -5; }},
+        {"--frames 0: must be >= 1", [](ReportOptions& o) { o.sim.frames = 0; }},
+        {"--noise nan", [&](ReportOptions& o) { o.sim.noise_sigma = nan; }},
+        {"--noise -1", [](ReportOptions& o) { o.sim.noise_sigma = -1.0; }},
+        {"--hiccup 2", [](ReportOptions& o) { o.sim.hiccup_p = 2.0; }},
+        {"--hiccup nan", [&](ReportOptions& o) { o.sim.hiccup_p = nan; }},
+        {"--latency-ms -3", [](ReportOptions& o) { o.sim.latency_ms = -3.0; }},
+        {"--speed-smoothing nan", [&](ReportOptions& o) { o.speed_smoothing = nan; }},
+        {"--speeds2 0: must be in (0, 1e6]",
+         [](ReportOptions& o) {
+             o.speeds2 = {1.0, 0.0};
+         }},
+        {"--speeds3 nan",
+         [&](ReportOptions& o) {
+             o.speeds3 = {1.0, nan, 0.5};
+         }},
+        {"--speeds2 -1", [](ReportOptions& o) {
+             o.speeds2 = {-1.0, 0.6};
+         }}};
+    for (const auto& [message, spoil] : cases) {
+        ReportOptions o;
+        o.schemes = {"perfect"};
+        o.cameras = {"slow"};
+        o.tracer_counts = {2, 3};
+        spoil(o);
+        auto report = run_report(o);
+        ASSERT_FALSE(report.ok()) << message;
+        EXPECT_EQ(report.error().code, ErrorCode::invalid_argument) << message;
+        EXPECT_NE(report.error().message.find(message), std::string::npos)
+            << message << " / " << report.error().message;
+    }
 }
 
 // The balancing issue's claims, on the recorded Sponza traces shipped in the repository.
