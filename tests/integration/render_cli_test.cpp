@@ -219,6 +219,20 @@ TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
     }
 }
 
+// Values the proxy ran with before: a NaN fault interval (a fault every 50 ms) and a negative
+// bandwidth (wrapped to no cap).
+TEST(FaultProxyCli, BadInputIsAOneLineError) {
+    for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+             {"--random-faults nan", "--random-faults nan: must be in [0, 3600]"},
+             {"--bandwidth -5", "--bandwidth"}}) {
+        // Under timeout: without the checks the proxy relays until stopped.
+        const CliRun bad = run_cli("--listen 1 --target 2 " + args,
+                                   ("timeout 10 " + std::string(PATHFARM_FAULT_PROXY_EXE)).c_str());
+        EXPECT_EQ(bad.exit_code, 2) << args << ": " << bad.output;
+        EXPECT_NE(bad.output.find(message), std::string::npos) << args << ": " << bad.output;
+    }
+}
+
 std::vector<std::vector<double>> read_csv(const std::string& path, std::string& header) {
     std::ifstream in(path);
     std::getline(in, header);

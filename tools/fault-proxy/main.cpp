@@ -3,7 +3,9 @@
 // latency and bandwidth, and with --random-faults injects a fault at random intervals: a
 // stall, a reset in the middle of a message, a half-open connection, a latency change. One
 // line per fault on stdout.
+#include <cmath>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 #include <thread>
@@ -62,7 +64,7 @@ void inject(FaultProxy& proxy, std::mt19937& rng) {
 
 int main(int argc, char** argv) {
     int listen_port = 0, target_port = 0, latency_ms = 0, seed = 1;
-    uint64_t bandwidth = 0;
+    int64_t bandwidth = 0;  // signed, so that a negative value is refused, not wrapped
     double every = 0.0;
     CLI::App app{"pathfarm-fault-proxy: a TCP relay on loopback that injects faults"};
     app.add_option("--listen", listen_port, "Port to accept on (127.0.0.1)")
@@ -75,7 +77,8 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(0, 10000));
     app.add_option("--bandwidth", bandwidth, "Cap in bytes per second per direction (0: none)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(int64_t(0), int64_t(1) << 40));
     app.add_option("--random-faults", every,
                    "Inject a random fault every S seconds on average (0: none)")
         ->capture_default_str()
@@ -83,6 +86,11 @@ int main(int argc, char** argv) {
     app.add_option("--seed", seed, "Seed of the fault draws")->capture_default_str();
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-fault-proxy"))
         return *exit_code;
+    if (!std::isfinite(every)) {  // passes CLI11's range check; drew a fault every 50 ms
+        std::fprintf(stderr, "pathfarm-fault-proxy: --random-faults %g: must be in [0, 3600]\n",
+                     every);
+        return 2;
+    }
     FaultProxy proxy{uint16_t(target_port), uint16_t(listen_port)};
     if (proxy.port() == 0) {
         std::fprintf(stderr, "pathfarm-fault-proxy: --listen %d: cannot listen there\n",
@@ -90,7 +98,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     proxy.set_latency(std::chrono::milliseconds(latency_ms));
-    proxy.set_bandwidth(bandwidth);
+    proxy.set_bandwidth(uint64_t(bandwidth));
     std::signal(SIGINT, request_stop);
     std::signal(SIGTERM, request_stop);
     spdlog::info("relaying 127.0.0.1:{} to 127.0.0.1:{}", proxy.port(), target_port);
