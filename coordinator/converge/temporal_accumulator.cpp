@@ -346,23 +346,22 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
         [&](const tbb::blocked_range<int>& rows, Totals t) {
             for (int y = rows.begin(); y < rows.end(); ++y)
                 for (int x = 0; x < w; ++x) {
+                    const std::size_t i = std::size_t(y) * w + x;
                     const Rgb c = image.pixel(x, y);
-                    const float l = luminance(c), s = weights ? (*weights)[y * w + x] : 1.0f;
-                    Vec2& m = next_moments_[std::size_t(y) * w + x];
-                    m = Vec2(l, l * l);
+                    const float l = luminance(c), s = weights ? (*weights)[i] : 1.0f;
+                    Vec2& m = next_moments_[i] = Vec2(l, l * l);
                     const Reprojection r = reproject(motion, project_prev, camera_ray, prev, view,
                                                      o_.depth_tolerance, x, y);
-                    sources_[std::size_t(y) * w + x] = r.object_moves ? Vec2(kNoSource) : r.source;
+                    sources_[i] = r.object_moves ? Vec2(kNoSource) : r.source;
                     if (!r.valid) {  // the image keeps c
                         next_history_.set_pixel(x, y, c);
-                        next_frames_[std::size_t(y) * w + x] = s;
+                        next_frames_[i] = s;
                         t.f += 1.0, t.frames += s;
                         continue;
                     }
                     Rgb history = history_.pixel(r.hx, r.hy);
                     float k = frames_[std::size_t(r.hy) * w + r.hx] + s;
                     if (motion.camera_moved || r.object_moves) {
-                        const std::size_t i = std::size_t(y) * w + x;
                         history = clamp_history(history, neighbourhood_, i,
                                                 moments_[std::size_t(r.hy) * w + r.hx],
                                                 o_.clamp_sigmas, !view.gbuffer.hit(i));
@@ -375,7 +374,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                     image.set_pixel(x, y, blended);  // read above, nowhere else in this loop
                     const Vec2 mh = moments_[std::size_t(r.hy) * w + r.hx];
                     m = mh + f * (m - mh);
-                    next_frames_[std::size_t(y) * w + x] = k;
+                    next_frames_[i] = k;
                     t.f += f, t.kept += 1.0, t.frames += k;
                 }
             return t;
