@@ -344,6 +344,9 @@ Status check_options(const FarmOptions& o) {
                           "--width/--height/--spp/--fps/--deadline-ms must be positive");
     if (!std::isfinite(o.fps))  // every frame at time 0: a game that never moves
         return make_error(ErrorCode::invalid_argument, "--fps {}: must be finite", o.fps);
+    if (o.max_depth < 0 || o.max_depth > 1024)  // was sent to the tracers as it was
+        return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024",
+                          o.max_depth);
     if (o.jpeg_quality < 1 || o.jpeg_quality > 100)
         return make_error(ErrorCode::invalid_argument, "--jpeg-quality {}: must be in [1, 100]",
                           o.jpeg_quality);

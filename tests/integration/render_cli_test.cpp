@@ -203,6 +203,16 @@ TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
         EXPECT_NE(clock.output.find("--fps inf: must be finite"), std::string::npos)
             << clock.output;
     }
+    // A negative bounce limit went to the tracers as it was.
+    const CliRun depth = run_cli(
+        "--scene builtin:cornell --max-depth -1 --tracer-port 0 "
+        "--insecure-plaintext",
+        ("PATHFARM_SECRET=0123456789abcdef0123456789abcdef timeout 30 " +
+         std::string(PATHFARM_COORDINATOR_EXE))
+            .c_str());
+    EXPECT_EQ(depth.exit_code, 2) << depth.output;
+    EXPECT_NE(depth.output.find("--max-depth -1: must be 0..1024"), std::string::npos)
+        << depth.output;
     // Taken silently before: a NaN export time, a NaN rebuild factor (no BVH ever rebuilt), a
     // negative frame count (the default instead).
     for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
