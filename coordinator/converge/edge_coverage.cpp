@@ -85,7 +85,8 @@ uint64_t luminance_key(float luminance, uint32_t pixel) {
 // that side's pixels in the window that are not on an edge themselves (their light is their
 // surface's alone), or else among its 3x3: the median, since a pixel beside the edge may hold a
 // sample of the other side too. False when a side has no pixel there.
-bool EdgeCoverage::sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb& front) const {
+bool EdgeCoverage::sides(const FloatImage& image, const Surfaces& s, int x, int y, Rgb& behind,
+                         Rgb& front) const {
     const std::size_t i = std::size_t(y) * width_ + x;
     // [side][0: interior of the 5x5, 1: any of the 3x3]; ties in luminance broken by the
     // pixel's index (luminance_key): the same choice on every run.
@@ -96,8 +97,8 @@ bool EdgeCoverage::sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb
         const std::size_t row = std::size_t(ny) * width_;
         for (int nx = x0; nx <= x1; ++nx) {
             const std::size_t j = row + std::size_t(nx);
-            const bool own = surface_[j] == surface_[i];
-            if (j == i || keep_[j] || (!own && !(distance_[j] < distance_[i]))) continue;
+            const bool own = s.surface[j] == s.surface[i];
+            if (j == i || keep_[j] || (!own && !(s.distance[j] < s.distance[i]))) continue;
             const bool near = std::abs(nx - x) <= 1 && std::abs(ny - y) <= 1;
             const int side = own ? 0 : 1;
             const uint64_t key = luminance_key(luminance_[j], uint32_t(j));
@@ -118,11 +119,12 @@ bool EdgeCoverage::sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb
     return true;
 }
 
-Rgb EdgeCoverage::blended(const FloatImage& image, std::size_t i, float frames) const {
+Rgb EdgeCoverage::blended(const FloatImage& image, const Surfaces& s, std::size_t i,
+                          float frames) const {
     const int x = int(i % std::size_t(width_)), y = int(i / std::size_t(width_));
     const Rgb own = image.pixel(x, y);
     Rgb behind, front;
-    if (!sides(image, x, y, behind, front)) return own;
+    if (!sides(image, s, x, y, behind, front)) return own;
     // Which side the pixel's sample saw: the nearer in luminance.
     const float l = luminance(own);
     if (std::abs(l - luminance(front)) >= std::abs(l - luminance(behind))) return own;
@@ -145,9 +147,8 @@ void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames,
     for (const uint32_t i : edges_)
         if (frames[i] <= most_frames) short_history_.push_back(i);
     if (short_history_.empty()) return;
-    surface_ = surface.data();
-    distance_ = distance.data();
     // Every pixel's luminance once (a window reads each about 25 times).
+    const Surfaces surfaces{surface.data(), distance.data()};
     luminance_.resize(n);
     parallel_rows(height_, [&](int y) {
         const float* in = &image.rgb[std::size_t(y) * width_ * 3];
@@ -159,15 +160,13 @@ void EdgeCoverage::apply(FloatImage& image, const std::vector<float>& frames,
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, short_history_.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t e = range.begin(); e < range.end(); ++e)
-                              blended_[e] =
-                                  blended(image, short_history_[e], frames[short_history_[e]]);
+                              blended_[e] = blended(image, surfaces, short_history_[e],
+                                                    frames[short_history_[e]]);
                       });
     for (std::size_t e = 0; e < short_history_.size(); ++e) {
         const std::size_t i = short_history_[e];
         image.set_pixel(int(i % std::size_t(width_)), int(i / std::size_t(width_)), blended_[e]);
     }
-    surface_ = nullptr;
-    distance_ = nullptr;
 }
 
 }  // namespace pathfarm::coord

@@ -50,13 +50,17 @@ public:
                const std::vector<uint32_t>& surface, const std::vector<float>& distance);
 
 private:
-    bool sides(const FloatImage& image, int x, int y, Rgb& behind, Rgb& front) const;
-    Rgb blended(const FloatImage& image, std::size_t i, float frames) const;
+    // The frame's surfaces as apply() is given them.
+    struct Surfaces {
+        const uint32_t* surface;
+        const float* distance;
+    };
+    bool sides(const FloatImage& image, const Surfaces& s, int x, int y, Rgb& behind,
+               Rgb& front) const;
+    Rgb blended(const FloatImage& image, const Surfaces& s, std::size_t i, float frames) const;
 
     EdgeCoverageOptions o_;
     int width_ = 0, height_ = 0;
-    const uint32_t* surface_ = nullptr;  // apply()'s, while it runs
-    const float* distance_ = nullptr;
     std::vector<uint8_t> keep_;            // hit pixels the wavelet does not filter
     std::vector<uint8_t> on_edge_;         // a 4-neighbour sees another surface
     std::vector<uint8_t> across_;          // how many 4-neighbours do
