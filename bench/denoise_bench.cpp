@@ -21,8 +21,10 @@
 // (`targeted`: where history is short, as the farm plans them from the history two frames
 // back, coordinator/pacing/extra_samples.h; `dither`: spread evenly) and whether converging
 // weighs a pixel by its samples (`weighted`, as the farm does) or counts every frame as one
-// (`unweighted`), and the far side of silhouettes' weight (EdgeCoverageOptions::model_frames, 3;
-// 0: off).
+// (`unweighted`), the far side of silhouettes' weight (EdgeCoverageOptions::model_frames, 3;
+// 0: off), the render's divisor (1: 320x180; 2: 160x90, as workload scaling renders smaller than
+// the display) and where converging and denoising run then (`display`: on the upscaled render,
+// as the farm does; `render`: at the render size, upscaled after).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -36,6 +38,7 @@
 #include "common/base/timer.h"
 #include "common/film/image_compare.h"
 #include "common/film/image_io.h"
+#include "common/film/resample.h"
 #include "common/scene/load/scene_loader.h"
 #include "common/scene/scene_state.h"
 #include "coordinator/converge/denoiser.h"
@@ -100,13 +103,13 @@ struct Shot {
 };
 
 FloatImage render(tracer::RenderBackend& backend, const Shot& s, uint32_t frame, uint32_t seed,
-                  int spp, std::vector<FirstHit>* hits,
-                  const std::vector<uint8_t>* extra = nullptr) {
-    FloatImage image(kWidth, kHeight);
-    if (hits) hits->assign(std::size_t(kWidth) * kHeight, FirstHit{});
-    FrameSpec spec{kWidth, kHeight, frame, seed, spp, 0, s.camera};
+                  int spp, std::vector<FirstHit>* hits, const std::vector<uint8_t>* extra = nullptr,
+                  int width = kWidth, int height = kHeight) {
+    FloatImage image(width, height);
+    if (hits) hits->assign(std::size_t(width) * height, FirstHit{});
+    FrameSpec spec{width, height, frame, seed, spp, 0, s.camera};
     if (extra && !extra->empty()) spec.extra_samples = extra->data();
-    const tracer::RenderJob job{spec, IntegratorSettings{},         0, kHeight,
+    const tracer::RenderJob job{spec, IntegratorSettings{},         0, height,
                                 {},   hits ? hits->data() : nullptr};
     if (!backend.render_rows(job, image.rgb.data())) fail("render failed");
     if (hits)
@@ -144,6 +147,8 @@ struct Args {
     double extra = 0.0;
     bool targeted = true;
     bool weigh = true;  // FrameView::sample_weights (as the farm does); false: every frame as one
+    int render_divisor = 1;         // render at 320x180 over this, upscaled for display
+    bool filter_at_render = false;  // converge and denoise at the render size, then upscale
 };
 
 // The cached reference of frame k, or a fresh render of it (written to the cache).
@@ -177,18 +182,27 @@ public:
         shot.camera = recentre_on_camera(shot.model, view.camera);
         if (Status s = backend_.set_scene(shot.model); !s) fail(s.error().message);
         std::vector<FirstHit> hits;
-        const std::vector<uint8_t> extra =
-            coord::plan_extra_samples(a_.targeted ? history_[0] : std::vector<float>{}, kWidth,
-                                      kHeight, a_.extra, uint64_t(k));
-        const FloatImage raw = render(backend_, shot, uint32_t(k), 1, 1, &hits, &extra);
-        view.gbuffer =
-            coord::gbuffer_from_first_hits(hits, kWidth, kHeight, view.camera, kWidth, kHeight);
-        if (a_.weigh) view.sample_weights = coord::sample_weights(extra, 1);
-        FloatImage converged = raw, denoised = raw;
+        // Workload scaling's smaller render: converged and denoised at the display size from
+        // the upscaled image (the farm's way), or at the render size and upscaled after.
+        const int rw = kWidth / a_.render_divisor, rh = kHeight / a_.render_divisor;
+        const int fw = a_.filter_at_render ? rw : kWidth, fh = a_.filter_at_render ? rh : kHeight;
+        const std::vector<uint8_t> extra = coord::plan_extra_samples(
+            a_.targeted ? history_[0] : std::vector<float>{}, rw, rh, a_.extra, uint64_t(k));
+        const FloatImage rendered =
+            render(backend_, shot, uint32_t(k), 1, 1, &hits, &extra, rw, rh);
+        view.gbuffer = coord::gbuffer_from_first_hits(hits, rw, rh, view.camera, fw, fh);
+        if (a_.weigh && rw == fw) view.sample_weights = coord::sample_weights(extra, 1);
+        const auto to_size = [](const FloatImage& image, int w, int h) {
+            return image.width == w && image.height == h ? image : resize_bilinear(image, w, h);
+        };
+        FloatImage converged = to_size(rendered, fw, fh), denoised = converged;
         accumulator_.blend(converged, view);
         const Timer timer;
         denoiser_.filter(denoised, std::move(view), true);
         const double denoise_ms = timer.milliseconds();
+        const FloatImage raw = to_size(rendered, kWidth, kHeight);
+        converged = to_size(converged, kWidth, kHeight);
+        denoised = to_size(denoised, kWidth, kHeight);
         history_[0] = std::move(history_[1]);  // the farm plans from two frames back
         history_[1] = denoiser_.history_frames();
         const std::map<std::string, const FloatImage*> outputs = {
@@ -262,6 +276,8 @@ int main(int argc, char** argv) {
     if (argc > 13) a.targeted = std::string(argv[13]) != "dither";
     if (argc > 14) a.weigh = std::string(argv[14]) != "unweighted";
     if (argc > 15) a.denoise.edges.model_frames = float(std::atof(argv[15]));
+    if (argc > 16) a.render_divisor = std::max(1, std::atoi(argv[16]));
+    if (argc > 17) a.filter_at_render = std::string(argv[17]) == "render";
     const PathSpec spec = path_spec(a.path, argv[2]);
     auto scene = load_scene(spec.scene);
     if (!scene) fail(scene.error().message);
