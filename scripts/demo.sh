@@ -27,6 +27,8 @@ export PATHFARM_SECRET="${PATHFARM_SECRET:-$(head -c 32 /dev/urandom | od -An -t
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
+trap 'exit 143' TERM  # so that the EXIT trap stops the farm when the demo is stopped
+trap 'exit 130' INT
 
 "$bin/coordinator/pathfarm-coordinator" --scene "${SCENE:-builtin:default}" --tracer-port 0 --client-port 0 \
   --width "$width" --height "$height" --spp "$spp" --frames "$frames" --min-tracers 2 \
@@ -47,10 +49,24 @@ pids+=("$client")
 for _ in $(seq 100); do grep -q '"headless-client" connected' "$out/coordinator.log" && break; sleep 0.1; done
 read -r -a backends <<< "${BACKENDS:-embree embree}"
 names=(tracer-a tracer-b)
+tracers=()
 for i in 0 1; do
   "$bin/tracer-node/pathfarm-tracer" --coordinator "127.0.0.1:$tracer_port" --name "${names[$i]}" \
     --backend "${backends[$i]:-embree}" --threads 1 --max-reconnects 0 ${TRACER_ARGS:-} > "$out/${names[$i]}.log" 2>&1 &
   pids+=($!)
+  tracers+=($!)
+done
+# A tracer that ends before the run does (a bad TRACER_ARGS, a crash) would leave the
+# coordinator waiting for it for ever: say which one and why.
+while kill -0 "$coordinator" 2>/dev/null; do
+  if ! grep -q "fps=" "$out/coordinator.log"; then
+    for i in 0 1; do
+      if ! kill -0 "${tracers[$i]}" 2>/dev/null; then
+        echo "demo: ${names[$i]} stopped before the run ended:"; tail -5 "$out/${names[$i]}.log"; exit 1
+      fi
+    done
+  fi
+  sleep 0.2
 done
 wait "$coordinator" || { echo "demo: the coordinator failed:"; tail -5 "$out/coordinator.log"; exit 1; }
 wait "$client" || { echo "demo: the client failed:"; tail -5 "$out/client.log"; exit 1; }
