@@ -20,6 +20,8 @@ Result<SceneModel> load_file(const std::string& path) {
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return std::tolower(c); });
     std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        return make_error(ErrorCode::invalid_argument, "{}: a directory, not a scene file", path);
     if (!std::filesystem::is_regular_file(path, ec))
         return make_error(ErrorCode::not_found, "{}: no such file", path);
     if (ends_with(lower, ".gltf") || ends_with(lower, ".glb")) return load_gltf(path);

@@ -64,6 +64,12 @@ TEST(SceneLoader, UnknownBuiltinAndMissingFileAreErrors) {
     const std::string dir = test::scratch_dir();
     write_file(dir + "/x.fbx", "data");
     expect_error_naming(load_scene(dir + "/x.fbx"), dir + "/x.fbx");
+    // A directory (a scene's folder instead of its file) is named as one, not as missing.
+    std::filesystem::create_directories(dir + "/scene.gltf");
+    const auto folder = load_scene(dir + "/scene.gltf");
+    ASSERT_FALSE(folder.ok());
+    EXPECT_NE(folder.error().message.find("a directory"), std::string::npos)
+        << folder.error().message;
 }
 
 TEST(SceneLoader, LoadsSharedObjPlyAndGltfScenes) {
