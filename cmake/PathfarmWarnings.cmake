@@ -1,4 +1,5 @@
-# Policy targets every pathfarm target links: warnings (and -Werror in CI), sanitizers.
+# Policy targets every pathfarm target links: warnings (and -Werror in CI), code generation,
+# sanitizers.
 add_library(pathfarm_warnings INTERFACE)
 target_compile_options(pathfarm_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Wunused
@@ -8,6 +9,15 @@ target_compile_options(pathfarm_warnings INTERFACE
 if(PATHFARM_WERROR)
   target_compile_options(pathfarm_warnings INTERFACE -Werror)
 endif()
+
+# Code generation, through the warnings target so that every target has it. No errno from the
+# math functions (nothing here reads it): sqrt becomes the one instruction without a branch to
+# the library for negative arguments, and calls the compiler can inline stay inline. The
+# results are the same bits (IEEE square roots are exact either way): 2-3 % fewer
+# instructions per sample, images identical (docs/performance.md).
+add_library(pathfarm_codegen INTERFACE)
+target_compile_options(pathfarm_codegen INTERFACE -fno-math-errno)
+target_link_libraries(pathfarm_warnings INTERFACE pathfarm_codegen)
 
 add_library(pathfarm_sanitize INTERFACE)
 if(PATHFARM_SANITIZE)
