@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
     std::string coordinator, secret_file;
     CLI::App app{"pathfarm-tracer: renders the rows a pathfarm coordinator assigns it"};
     app.add_option("--coordinator", coordinator, "Coordinator tracer port, HOST:PORT")->required();
-    pathfarm::tracer::add_backend_options(app, o.backend, o.threads, o.cl_platform, o.cl_device);
+    pathfarm::tracer::add_backend_options(app, o.backend, o.threads, o.cl_platform, o.cl_device,
+                                          o.texture_lod);
     app.add_option("--secret-file", secret_file,
                    "File holding the shared secret (else $PATHFARM_SECRET)");
     app.add_flag(

@@ -46,7 +46,8 @@ double frame_slowdown(const TracerOptions& o, uint64_t frame) {
 Status run_tracer(const TracerOptions& o, const std::atomic<bool>& stop) {
     auto kind = parse_backend_kind(o.backend);
     if (!kind) return kind.error();
-    auto backend = create_backend(*kind, BackendOptions{o.threads, o.cl_platform, o.cl_device});
+    auto backend =
+        create_backend(*kind, BackendOptions{o.threads, o.cl_platform, o.cl_device, o.texture_lod});
     if (!backend) return backend.error();
     // An infinite or huge slowdown slept forever (or overflowed the sleep's duration): the
     // coordinator saw a tracer that never answered, the tracer no error.

@@ -17,6 +17,7 @@ struct TracerOptions {
     int threads = 0;
     int cl_platform = 0;  // OpenCL backend: platform and device index
     int cl_device = 0;
+    bool texture_lod = true;  // BackendOptions::texture_lod
     std::string secret;
     bool insecure_plaintext = false;  // the coordinator link in the clear (benchmarks only)
     std::string name = "tracer";

@@ -68,6 +68,11 @@ struct PathTracer::PathState {
     float bsdf_pdf = 0.0f;
     Vec3 last_point{0.0f};
     Vec3 last_normal{0.0f};  // its geometric normal: the light tree's receiver (light_tree.h)
+    // The ray cone (kConeSpread): its width at the last vertex, its spread angle since, and
+    // the world-space footprint at the current hit (0 at the camera's: texture level 0).
+    float cone_width = 0.0f;
+    float cone_spread = 0.0f;
+    float footprint = 0.0f;
     // Emission found by BSDF sampling counts unless only light sampling estimates it.
     bool counts_emission(LightStrategy s) const {
         return delta_bounce || s != LightStrategy::light_only;
@@ -101,7 +106,7 @@ template <bool kTransmission>
 bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, PixelSampler& sampler,
                          SampleCounters& counters) const {
     const Vec3 wo = -ray.d;
-    const MaterialPoint mp = shading_.material_point(sp);
+    const MaterialPoint mp = shading_.material_point(sp, s.footprint);
     const Bsdf bsdf(mp);
     const Orientation o = orient(sp, wo, bsdf.transmissive());
     const BsdfOutgoing outgoing = bsdf.outgoing(o.frame.to_local(wo));
@@ -118,6 +123,7 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     s.beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
     s.delta_bounce = bs.delta;
     s.bsdf_pdf = bs.pdf;
+    if (!bs.delta) s.cone_spread += kConeSpread / std::sqrt(std::max(bs.pdf, kConePdfFloor));
     if (kTransmission && bsdf.transmissive() && glm::dot(wi, sp.ng) * glm::dot(wo, sp.ng) < 0.0f)
         s.sigma_a =
             glm::dot(wi, sp.ng) < 0.0f ? shading_.absorption_coefficient(sp.material) : Rgb(0.0f);
@@ -183,6 +189,9 @@ Rgb PathTracer::trace_with(Ray ray, const KnownHit& first, PixelSampler& sampler
         SurfacePoint sp = shading_.surface(hit);
         if (kEmitters && count_emission) s.radiance += emission_at(s, hit, sp, -ray.d);
         if (depth >= settings_.max_depth) break;
+        s.cone_width += s.cone_spread * hit.t;
+        const float cos = std::max(std::abs(glm::dot(ray.d, sp.ng)), kConeCosFloor);
+        s.footprint = s.cone_width * s.cone_width / cos;
         if (!scatter<kTransmission>(s, ray, sp, depth, sampler, counters)) break;
     }
     if (!is_finite(s.radiance)) {

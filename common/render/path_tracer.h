@@ -76,6 +76,14 @@ struct SampleCounters {
 // 0.2); the OpenCL kernel's PF_SHARP_MAX_ALPHA is the same.
 inline constexpr float kSharpMaxAlpha = 0.04f;
 
+// Ray cones for texture level of detail (texture_mips.h): after a non-delta bounce a path's
+// cone widens by kConeSpread / sqrt(pdf) radians, the sampled direction's density floored at
+// kConePdfFloor; its footprint at the next hit is width^2 / |cos| (cos floored at
+// kConeCosFloor). The OpenCL kernel's PF_CONE_* are the same.
+inline constexpr float kConeSpread = 1.0f / 16.0f;
+inline constexpr float kConePdfFloor = 0.1f;
+inline constexpr float kConeCosFloor = 0.1f;
+
 class PathTracer {
 public:
     PathTracer(const ShadingScene& shading, const LightSampler& lights, const Intersector& kernel,

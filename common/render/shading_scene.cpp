@@ -14,7 +14,8 @@ Vec3 normalize_or(const Vec3& v, const Vec3& fallback) {
 
 }  // namespace
 
-ShadingScene::ShadingScene(const SceneModel& scene) : scene_(scene) {
+ShadingScene::ShadingScene(const SceneModel& scene, const TextureMips* mips)
+    : scene_(scene), mips_(mips) {
     normal_matrices_.reserve(scene.instances.size());
     handedness_.reserve(scene.instances.size());
     for (const Instance& inst : scene.instances) {
@@ -44,8 +45,8 @@ SurfacePoint ShadingScene::surface(const Hit& hit) const {
     sp.p = b0 * p[0] + hit.u * p[1] + hit.v * p[2];
     // glTF: a negative-determinant transform flips the winding, so the front face keeps
     // following the transformed normal.
-    sp.ng = normalize_or(glm::cross(p[1] - p[0], p[2] - p[0]) * handedness_[hit.instance],
-                         Vec3(0, 0, 1));
+    const Vec3 cross = glm::cross(p[1] - p[0], p[2] - p[0]);
+    sp.ng = normalize_or(cross * handedness_[hit.instance], Vec3(0, 0, 1));
     sp.ns = sp.ng;
     const Mat3& nm = normal_matrices_[hit.instance];
     if (mesh.has_normals()) {
@@ -54,8 +55,16 @@ SurfacePoint ShadingScene::surface(const Hit& hit) const {
         sp.ns = normalize_or(nm * n, sp.ng);
         if (glm::dot(sp.ns, sp.ng) < 0.0f) sp.ns = -sp.ns;
     }
-    if (mesh.has_uvs())
-        sp.uv = b0 * mesh.uvs[i[0]] + hit.u * mesh.uvs[i[1]] + hit.v * mesh.uvs[i[2]];
+    if (mesh.has_uvs()) {
+        const Vec2 t[3] = {mesh.uvs[i[0]], mesh.uvs[i[1]], mesh.uvs[i[2]]};
+        sp.uv = b0 * t[0] + hit.u * t[1] + hit.v * t[2];
+        if (mips_) {  // both areas doubled: the ratio is the triangle's
+            const Vec2 e1 = t[1] - t[0], e2 = t[2] - t[0];
+            const float world = glm::length(cross);
+            const float density = std::abs(e1.x * e2.y - e1.y * e2.x) / world;
+            sp.uv_density = std::isfinite(density) ? density : 0.0f;
+        }
+    }
     if (mesh.has_tangents()) {
         const Vec4 t =
             b0 * mesh.tangents[i[0]] + hit.u * mesh.tangents[i[1]] + hit.v * mesh.tangents[i[2]];
@@ -65,19 +74,31 @@ SurfacePoint ShadingScene::surface(const Hit& hit) const {
     return sp;
 }
 
-MaterialPoint ShadingScene::material_point(SurfacePoint& sp) const {
+const Image* ShadingScene::texture_level(const TextureRef& ref, const SurfacePoint& sp,
+                                         float footprint) const {
+    const Image* image = scene_.texture_image(ref);
+    if (footprint <= 0.0f || !mips_ || !image) return image;
+    const std::vector<Image>& levels = mips_->levels(scene_.textures[ref.texture].image);
+    const Vec2 scale = ref.transform.scale;
+    const float texels = footprint * sp.uv_density * std::abs(scale.x * scale.y) *
+                         float(image->width) * float(image->height);
+    const int level = mip_level(texels, int(levels.size()));
+    return level == 0 ? image : &levels[std::size_t(level - 1)];
+}
+
+MaterialPoint ShadingScene::material_point(SurfacePoint& sp, float footprint) const {
     const Material& m = scene_.materials[sp.material];
     MaterialPoint mp;
     Vec4 base = m.base_color_factor;
     if (m.base_color_texture.valid())
-        base *= sample_image(scene_.texture_image(m.base_color_texture),
+        base *= sample_image(texture_level(m.base_color_texture, sp, footprint),
                              scene_.textures[m.base_color_texture.texture].sampler,
                              m.base_color_texture.uv(sp.uv), true);
     mp.base_color = glm::clamp(Rgb(base), Rgb(0.0f), Rgb(1.0f));
     float roughness = m.roughness_factor;
     float metallic = m.metallic_factor;
     if (m.metallic_roughness_texture.valid()) {
-        const Vec4 mr = sample_image(scene_.texture_image(m.metallic_roughness_texture),
+        const Vec4 mr = sample_image(texture_level(m.metallic_roughness_texture, sp, footprint),
                                      scene_.textures[m.metallic_roughness_texture.texture].sampler,
                                      m.metallic_roughness_texture.uv(sp.uv), false);
         roughness *= mr.y;
@@ -91,7 +112,7 @@ MaterialPoint ShadingScene::material_point(SurfacePoint& sp) const {
     mp.specular = m.specular_factor;
     mp.specular_color = m.specular_color_factor;
     if (m.normal_texture.valid() && glm::dot(sp.tangent, sp.tangent) > 0.0f) {
-        const Vec4 t = sample_image(scene_.texture_image(m.normal_texture),
+        const Vec4 t = sample_image(texture_level(m.normal_texture, sp, footprint),
                                     scene_.textures[m.normal_texture.texture].sampler,
                                     m.normal_texture.uv(sp.uv), false);
         Vec3 tn = Vec3(t) * 2.0f - Vec3(1.0f);

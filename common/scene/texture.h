@@ -23,8 +23,10 @@ enum class FilterMode : uint8_t { nearest, linear };
 inline constexpr int kFilterModeCount = 2;
 
 struct Sampler {
-    FilterMode filter = FilterMode::linear;  // glTF magFilter; we do not mip-map (path tracing
-                                             // averages many samples per pixel)
+    // glTF magFilter. The glTF minFilter is not read: the camera's hits read level 0 (the
+    // pixel's samples average the footprint), later vertices a mip level chosen by the path's
+    // ray cone (texture_mips.h).
+    FilterMode filter = FilterMode::linear;
     WrapMode wrap_s = WrapMode::repeat;
     WrapMode wrap_t = WrapMode::repeat;
 };

@@ -111,7 +111,7 @@ tracer::BackendKind default_backend() {
 }
 
 std::vector<FloatImage> render_seeds(const SceneModel& scene, const RenderRequest& r, int count) {
-    auto backend = tracer::create_backend(r.backend, {r.threads});
+    auto backend = tracer::create_backend(r.backend, {r.threads, 0, 0, r.texture_lod});
     EXPECT_TRUE(backend.ok()) << (backend.ok() ? "" : backend.error().message);
     if (!backend.ok()) return std::vector<FloatImage>(std::size_t(count));
     SceneModel local = scene;  // rendered relative to the camera, as the tools do

@@ -46,6 +46,7 @@ struct RenderRequest {
     uint32_t seed = 0;
     uint32_t frame = 0;
     int threads = 2;
+    bool texture_lod = true;  // BackendOptions::texture_lod
     IntegratorSettings integrator;
     std::vector<int> row_splits;  // render [0,s0), [s0,s1), ... [sN,height) separately
     tracer::BackendKind backend = default_backend();

@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
     add_image_options(app, c);
     add_camera_options(app, c);
     pathfarm::tracer::add_backend_options(app, c.o.backend, c.o.threads, c.o.cl_platform,
-                                          c.o.cl_device);
+                                          c.o.cl_device, c.o.texture_lod);
     add_integrator_options(app, c);
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-render"))
         return *exit_code;

@@ -207,7 +207,7 @@ Result<RenderSummary> run_render(const RenderToolOptions& o) {
     if (!camera) return camera.error();
     *camera = recentre_on_camera(*scene, *camera);  // precision where the pixels are
     auto backend = tracer::create_backend(
-        *kind, tracer::BackendOptions{o.threads, o.cl_platform, o.cl_device});
+        *kind, tracer::BackendOptions{o.threads, o.cl_platform, o.cl_device, o.texture_lod});
     if (!backend) return backend.error();
     if (Status s = (*backend)->set_scene(*scene); !s) return s.error();
 

@@ -31,6 +31,7 @@ struct RenderToolOptions {
     int threads = 0;
     int cl_platform = 0;  // OpenCL backend: platform and device index
     int cl_device = 0;
+    bool texture_lod = true;  // BackendOptions::texture_lod
     int max_depth = 8;
     LightStrategy strategy = LightStrategy::mis;
     bool specialise = true;          // the path-tracing loop specialised for the scene's features

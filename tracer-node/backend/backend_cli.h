@@ -9,8 +9,8 @@ class App;
 
 namespace pathfarm::tracer {
 
-// Adds --backend, --threads, --cl-platform and --cl-device.
+// Adds --backend, --threads, --cl-platform, --cl-device and --texture-lod (on|off).
 void add_backend_options(CLI::App& app, std::string& backend, int& threads, int& cl_platform,
-                         int& cl_device);
+                         int& cl_device, bool& texture_lod);
 
 }  // namespace pathfarm::tracer

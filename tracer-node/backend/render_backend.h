@@ -131,6 +131,9 @@ struct BackendOptions {
     int threads = 0;      // 0: all hardware threads (OpenCL: all compute units of the device)
     int cl_platform = 0;  // OpenCL platform and device, as listed by --list-devices
     int cl_device = 0;
+    // Coarser texture levels past a path's first hit (common/scene/texture_mips.h); false
+    // reads level 0 everywhere, for measuring what the levels save and what they cost.
+    bool texture_lod = true;
 };
 
 Result<BackendKind> parse_backend_kind(const std::string& name);

@@ -53,6 +53,7 @@ public:
         arena_.execute([&] { kernel = EmbreeScene::build(scene, options_.threads); });
         if (!kernel) return kernel.error();
         kernel_ = std::move(kernel.value());
+        if (options_.texture_lod) mips_.rebuild(scene);
         spdlog::debug("embree backend: scene built in {:.2f} ms", timer.milliseconds());
         adopt(scene);
         return {};
@@ -69,6 +70,7 @@ public:
         Result<EmbreeUpdate> u = Error{ErrorCode::backend_error, "embree: scene not updated"};
         arena_.execute([&] { u = kernel_->update(scene, changes); });
         if (!u) return u.error();
+        if (options_.texture_lod) mips_.update(scene, changes.textures);
         spdlog::debug(
             "embree backend: update in {:.2f} ms (instances: {} placed, {} re-baked; meshes: {} "
             "re-baked, {} rebuilt; baked BVH {})",
@@ -175,13 +177,14 @@ private:
     void adopt(const SceneModel& scene) {
         adopted_ = &scene;
         lights_.reset();
-        shading_ = std::make_unique<ShadingScene>(scene);
+        shading_ = std::make_unique<ShadingScene>(scene, options_.texture_lod ? &mips_ : nullptr);
         culling_.set_scene(scene);
     }
 
     BackendOptions options_;
     tbb::task_arena arena_;
     std::unique_ptr<EmbreeScene> kernel_;
+    TextureMips mips_;  // kept across updates: rebuilt for changed images only
     std::unique_ptr<ShadingScene> shading_;
     LightCulling culling_;
     LightTopologyCache topology_;  // each emissive mesh's light tree, across states

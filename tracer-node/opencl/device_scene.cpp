@@ -56,7 +56,7 @@ static_assert(offsetof(PfLightNode, power) == offsetof(LightTree::WideNode, powe
                   offsetof(PfLightNode, child) == offsetof(LightTree::WideNode, child),
               "PfLightNode's fields where LightTree::WideNode has them");
 static_assert(sizeof(PfInstance) == 36 * 4 && sizeof(PfMesh) == 8 * 4 &&
-                  sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 6 * 4 &&
+                  sizeof(PfMaterial) == 51 * 4 && sizeof(PfTexture) == 7 * 4 &&
                   sizeof(PfLight) == 20 * 4 && sizeof(PfLightNode) == 64 * 4 &&
                   sizeof(PfSceneGlobals) == (42 + 256 + 1024) * 4 &&
                   sizeof(PfFrameParams) == 28 * 4,
@@ -335,12 +335,18 @@ void pack_instances(const SceneModel& scene, PackedScene& out) {
     out.globals.instance_count = uint32_t(out.top_prims.size());
 }
 
-void pack_textures(const SceneModel& scene, PackedScene& out) {
+void pack_textures(const SceneModel& scene, const TextureMips* mips, PackedScene& out) {
     std::vector<uint32_t> image_first(scene.images.size(), 0);
+    std::vector<uint32_t> image_levels(scene.images.size(), 0);
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
         image_first[i] = uint32_t(out.texels.size() / 4);
         out.texels.insert(out.texels.end(), scene.images[i].rgba.begin(),
                           scene.images[i].rgba.end());
+        if (!mips) continue;
+        const std::vector<Image>& levels = mips->levels(int(i));
+        image_levels[i] = uint32_t(levels.size());
+        for (const Image& level : levels)
+            out.texels.insert(out.texels.end(), level.rgba.begin(), level.rgba.end());
     }
     for (const Texture& t : scene.textures) {
         PfTexture pt{};
@@ -351,6 +357,7 @@ void pack_textures(const SceneModel& scene, PackedScene& out) {
             pt.first_texel = image_first[std::size_t(t.image)];
             pt.width = im->width;
             pt.height = im->height;
+            pt.levels = image_levels[std::size_t(t.image)];
         }
         pt.filter = t.sampler.filter == FilterMode::nearest ? PF_FILTER_NEAREST : PF_FILTER_LINEAR;
         pt.wrap_s = uint32_t(t.sampler.wrap_s);
@@ -362,7 +369,7 @@ void pack_textures(const SceneModel& scene, PackedScene& out) {
 }  // namespace
 
 PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& bvhs,
-                       LocalBvhCache& cache) {
+                       LocalBvhCache& cache, const TextureMips* mips) {
     PackedScene out;
     for (std::size_t m = 0; m < scene.meshes.size(); ++m)
         pack_mesh(scene, m, bvhs, cache, out);
@@ -375,7 +382,7 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
             out.globals.sobol_dim1[256 * b + v] = detail::kSobolDim1.table[b][v];
     for (const Material& m : scene.materials)
         out.materials.push_back(pack_material(m));
-    pack_textures(scene, out);
+    pack_textures(scene, mips, out);
     pack_lights(scene, {}, LightSelection::power, out);
     return out;
 }

@@ -9,6 +9,7 @@
 
 #include "common/scene/bvh.h"
 #include "common/scene/scene_model.h"
+#include "common/scene/texture_mips.h"
 #include "tracer-node/backend/render_backend.h"
 #include "tracer-node/opencl/device_types.h"
 
@@ -43,9 +44,10 @@ private:
 bool is_traversable_bvh(const std::vector<BvhNode>& nodes, const std::vector<uint32_t>& prims,
                         std::size_t triangle_count);
 
-// bvhs is indexed like scene.meshes (may be shorter or empty).
+// bvhs is indexed like scene.meshes (may be shorter or empty). With mips, each image's levels
+// past 0 follow it in the texel array (PfTexture::levels).
 PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& bvhs,
-                       LocalBvhCache& cache);
+                       LocalBvhCache& cache, const TextureMips* mips = nullptr);
 
 // (Re)fills out.lights, out.light_nodes (the light tree, for LightSelection::tree),
 // out.globals' light fields and the instances' first_light for the emitters not flagged in

@@ -111,6 +111,9 @@ typedef struct {
     pf_uint filter;  // 0 nearest, 1 linear (FilterMode)
     pf_uint wrap_s;  // WrapMode: 0 repeat, 1 clamp to edge, 2 mirrored repeat
     pf_uint wrap_t;
+    // Mip levels past 0 stored after level 0 (texture_mips.h): level l+1 halves level l's
+    // sizes (floored, at least 1) and follows it in the texel array; 0 without mips.
+    pf_uint levels;
 } PfTexture;
 
 // An emissive triangle of LightSampler, in world space.

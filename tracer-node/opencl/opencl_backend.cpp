@@ -34,6 +34,8 @@ struct OpenClBackend::Impl {
     PackedScene light_state;  // instances, lights and globals as last uploaded
     LightSelection light_selection = LightSelection::power;  // as last packed
     LightTopologyCache light_topology;                       // each emissive mesh's light tree
+    bool texture_lod = true;                                 // BackendOptions::texture_lod
+    TextureMips mips;  // kept across updates: rebuilt for changed images only
     // Scene buffers (device_types.h PF_SCENE_ARRAYS), then the globals.
 #define PF_DEVICE_ARRAY(name, type) DeviceArray name;
     PF_SCENE_ARRAYS(PF_DEVICE_ARRAY)
@@ -91,13 +93,21 @@ Status OpenClBackend::update_scene(const SceneModel& scene, const SceneChanges& 
         d.upload = {};
         return {};
     }
-    return set_scene(scene);
+    if (!d.has_scene || changes.structure) return set_scene(scene);
+    if (d.texture_lod) d.mips.update(scene, changes.textures);
+    return upload_scene(scene);
 }
 
 Status OpenClBackend::set_scene(const SceneModel& scene) {
+    if (impl_->texture_lod) impl_->mips.rebuild(scene);
+    return upload_scene(scene);
+}
+
+Status OpenClBackend::upload_scene(const SceneModel& scene) {
     Impl& d = *impl_;
     const Timer timer;
-    const PackedScene p = pack_scene(scene, d.provided_bvhs, d.bvh_cache);
+    const PackedScene p =
+        pack_scene(scene, d.provided_bvhs, d.bvh_cache, d.texture_lod ? &d.mips : nullptr);
     const double pack_ms = timer.milliseconds();
     d.provided_bvhs.clear();  // views are valid for this call only
     d.upload = {};
@@ -297,6 +307,7 @@ Result<std::unique_ptr<OpenClBackend>> make_opencl_backend(const BackendOptions&
     if (!shared) return shared.error();
     auto impl = std::make_unique<OpenClBackend::Impl>();
     impl->shared = *shared;
+    impl->texture_lod = options.texture_lod;
     cl_int err = CL_SUCCESS;
     impl->queue = cl::CommandQueue(impl->shared->context, impl->shared->device, 0, &err);
     if (err != CL_SUCCESS) return cl_failure("creating a command queue", err);

@@ -39,6 +39,8 @@ public:
 private:
     explicit OpenClBackend(std::unique_ptr<Impl> impl);
     Status update_lights(const RenderJob& job);
+    // Packs `scene` with the mips as they are and uploads what differs from the device's copy.
+    Status upload_scene(const SceneModel& scene);
     friend Result<std::unique_ptr<OpenClBackend>> make_opencl_backend(const BackendOptions&);
     std::unique_ptr<Impl> impl_;
 };

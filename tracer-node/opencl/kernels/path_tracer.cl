@@ -142,6 +142,12 @@ float3 pf_sample_direct(const PfScene* s, const PfFrameParams* fp, const PfShadi
     return candidates[chosen].contribution * (total / ((float)m * weight[chosen]));
 }
 
+// Ray cones for texture level of detail: path_tracer.h's kConeSpread, kConePdfFloor,
+// kConeCosFloor.
+#define PF_CONE_SPREAD 0.0625f
+#define PF_CONE_PDF_FLOOR 0.1f
+#define PF_CONE_COS_FLOOR 0.1f
+
 // Radiance along a camera ray; a non-finite estimate is counted and returned as zero.
 float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSampler* sampler,
                      uint* rays, uint* nonfinite) {
@@ -152,6 +158,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
     float bsdf_pdf = 0.0f;
     float3 last_point = ray.o;
     float3 last_normal = (float3)(0.0f);  // PathState::last_normal
+    float cone_width = 0.0f, cone_spread = 0.0f;  // PathState's ray cone (kConeSpread)
     for (int depth = 0;; ++depth) {
         PfHit hit;
         ++*rays;
@@ -182,7 +189,9 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         }
         if (depth >= fp->max_depth) break;
 
-        const PfMaterialPoint mp = pf_material_point(s, &sp);
+        cone_width += cone_spread * hit.t;
+        const float cone_cos = fmax(fabs(dot(ray.d, sp.ng)), PF_CONE_COS_FLOOR);
+        const PfMaterialPoint mp = pf_material_point(s, &sp, cone_width * cone_width / cone_cos);
         const PfBsdf bsdf = pf_make_bsdf(mp);
         const bool transmissive = bsdf.w_glass > 0.0f;
         // orient(): opaque surfaces are shaded on the side the ray arrives from.
@@ -207,6 +216,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
         beta *= bs.f * (fabs(bs.wi.z) / bs.pdf);
         delta_bounce = bs.delta;
         bsdf_pdf = bs.pdf;
+        if (!bs.delta) cone_spread += PF_CONE_SPREAD / sqrt(fmax(bs.pdf, PF_CONE_PDF_FLOOR));
 
         if (PF_TRANSMISSION && transmissive && dot(wi, sp.ng) * dot(wo, sp.ng) < 0.0f)
             sigma_a = dot(wi, sp.ng) < 0.0f ? pf_vec3(s->materials[sp.material].sigma_a)
@@ -247,7 +257,7 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
         return;
     }
     PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
-    const PfMaterialPoint mp = pf_material_point(s, &sp);
+    const PfMaterialPoint mp = pf_material_point(s, &sp, 0.0f);
     const float3 n = dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns;
     const float3 le = pf_emitted(s, &sp, -ray.d);
     const bool sharp = fmax(le.x, fmax(le.y, le.z)) > 0.0f || mp.transmission > 0.0f ||
