@@ -80,17 +80,20 @@ def throughput(render, rounds, spp, frames, out_dir, baseline=None):
         ours, theirs, base = [], [], []
         args = ["--spp", str(spp), "--width", str(WIDTH), "--height", str(HEIGHT),
                 "--look-from", *map(str, eye), "--look-at", *map(str, at), "--fov", str(fov)]
-        for r in range(rounds):  # A/B alternated so machine noise hits both alike
-            o = pathfarm(render, path, args + ["--out", os.path.join(out_dir, f"{name}.exr")])
-            e = embree(path, view, frames)
-            ours.append(o)
-            theirs.append(e)
-            rows.append([name, "pathfarm", r, round(o["samples_per_s"]), round(o["rays_per_s"])])
-            rows.append([name, "embree-pathtracer", r, round(e["samples_per_s"]), round(e["rays_per_s"])])
-            if baseline:
-                b = pathfarm(baseline, path, args + ["--out", os.path.join(out_dir, f"{name}-baseline.exr")])
-                base.append(b)
-                rows.append([name, "pathfarm-baseline", r, round(b["samples_per_s"]), round(b["rays_per_s"])])
+        runs = [("pathfarm", ours, lambda: pathfarm(render, path, args + ["--out", os.path.join(out_dir, f"{name}.exr")])),
+                ("embree-pathtracer", theirs, lambda: embree(path, view, frames))]
+        if baseline:
+            runs.append(("pathfarm-baseline", base, lambda: pathfarm(
+                baseline, path, args + ["--out", os.path.join(out_dir, f"{name}-baseline.exr")])))
+        for r in range(rounds):
+            # Alternated so machine noise hits all alike, and the order turned each round: in a
+            # fixed order the later runs of a round were measured up to 10 % slower (2026-12-06:
+            # a baseline rendering the very same image came out 0.91x).
+            for k in range(len(runs)):
+                label, results, run = runs[(k + r) % len(runs)]
+                x = run()
+                results.append(x)
+                rows.append([name, label, r, round(x["samples_per_s"]), round(x["rays_per_s"])])
         med = lambda xs, k: statistics.median(x[k] for x in xs)
         line = [name, round(med(ours, "samples_per_s")), round(med(theirs, "samples_per_s")),
                 round(med(ours, "samples_per_s") / med(theirs, "samples_per_s"), 3),
