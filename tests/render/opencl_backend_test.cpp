@@ -115,6 +115,14 @@ TEST(OpenClBackend, AnyRowSplitGivesTheSameImage) {
     EXPECT_EQ(std::memcmp(whole.rgb.data(), split.rgb.data(), whole.rgb.size() * sizeof(float)), 0);
 }
 
+// Fraction of channel values the two images share within a float rounding's reach.
+double close_fraction(const FloatImage& a, const FloatImage& b) {
+    std::size_t close = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i)
+        close += std::abs(a.rgb[i] - b.rgb[i]) <= 1e-4f * (1.0f + a.rgb[i]);
+    return double(close) / double(a.rgb.size());
+}
+
 TEST(OpenClBackend, SameSeedGivesNearlyTheSameImageAsEmbree) {
     // Same per-sample random numbers: paths only part where float rounding differs (a ray
     // grazing an edge, a roulette draw at the threshold), so almost every pixel matches.
@@ -125,18 +133,7 @@ TEST(OpenClBackend, SameSeedGivesNearlyTheSameImageAsEmbree) {
     const FloatImage embree = test::render(scene, r);
     r.backend = BackendKind::opencl;
     const FloatImage opencl = test::render(scene, r);
-    std::size_t close = 0;
-    for (std::size_t i = 0; i < embree.rgb.size(); ++i)
-        close += std::abs(embree.rgb[i] - opencl.rgb[i]) <= 1e-4f * (1.0f + embree.rgb[i]);
-    EXPECT_GT(double(close) / double(embree.rgb.size()), 0.99);
-}
-
-// Fraction of channel values the two images share within a float rounding's reach.
-double close_fraction(const FloatImage& a, const FloatImage& b) {
-    std::size_t close = 0;
-    for (std::size_t i = 0; i < a.rgb.size(); ++i)
-        close += std::abs(a.rgb[i] - b.rgb[i]) <= 1e-4f * (1.0f + a.rgb[i]);
-    return double(close) / double(a.rgb.size());
+    EXPECT_GT(close_fraction(embree, opencl), 0.99);
 }
 
 TEST(OpenClBackend, ChoosesTheSameTextureLevelsAsEmbree) {
