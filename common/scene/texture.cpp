@@ -5,17 +5,18 @@
 #include <cmath>
 
 namespace pathfarm {
-namespace {
 
-const std::array<float, 256>& srgb_table() {
+const std::array<float, 256>& srgb_decode_table() {
     static const std::array<float, 256> table = [] {
         std::array<float, 256> t{};
         for (int i = 0; i < 256; ++i)
-            t[i] = srgb_to_linear(float(i) / 255.0f);
+            t[std::size_t(i)] = srgb_to_linear(float(i) / 255.0f);
         return t;
     }();
     return table;
 }
+
+namespace {
 
 int wrap_index(int i, int n, WrapMode mode) {
     switch (mode) {
@@ -38,7 +39,7 @@ int wrap_index(int i, int n, WrapMode mode) {
 Vec4 texel(const Image& image, int x, int y, bool srgb) {
     const uint8_t* p = &image.rgba[(std::size_t(y) * image.width + x) * 4];
     if (srgb) {
-        const auto& t = srgb_table();
+        const auto& t = srgb_decode_table();
         return {t[p[0]], t[p[1]], t[p[2]], p[3] / 255.0f};
     }
     return Vec4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);

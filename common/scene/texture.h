@@ -2,6 +2,7 @@
 // whether it holds sRGB-encoded colour or linear data is decided by the use (TextureRef).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -70,6 +71,8 @@ struct TextureRef {
 Vec4 sample_image(const Image* image, const Sampler& sampler, Vec2 uv, bool srgb);
 
 float srgb_to_linear(float v);
+// srgb_to_linear of every 8-bit code.
+const std::array<float, 256>& srgb_decode_table();
 float linear_to_srgb(float v);
 
 }  // namespace pathfarm

@@ -2,23 +2,12 @@
 #include "common/scene/texture_mips.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "common/scene/scene_model.h"
 
 namespace pathfarm {
 namespace {
-
-const std::array<float, 256>& decode_table() {
-    static const std::array<float, 256> table = [] {
-        std::array<float, 256> t{};
-        for (int i = 0; i < 256; ++i)
-            t[std::size_t(i)] = srgb_to_linear(float(i) / 255.0f);
-        return t;
-    }();
-    return table;
-}
 
 uint8_t to_byte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
@@ -36,7 +25,7 @@ Image downsample_image(const Image& source, bool srgb) {
     out.width = std::max(1, source.width / 2);
     out.height = std::max(1, source.height / 2);
     out.rgba.resize(std::size_t(out.width) * out.height * 4);
-    const auto& decode = decode_table();
+    const auto& decode = srgb_decode_table();
     for (int y = 0; y < out.height; ++y) {
         const Span sy = span(y, out.height, source.height);
         for (int x = 0; x < out.width; ++x) {
