@@ -42,13 +42,11 @@ std::vector<MeshBvhView> FrameWorker::mesh_bvhs() const {
 }
 
 Status FrameWorker::update_backend() {
-    ReplicaScene next = replica_.take_scene();
     const glm::dvec3 previous_origin = scene_.origin;
-    scene_ = std::move(next.scene);
+    SceneChanges changes = replica_.update_scene(scene_);
     // Camera-relative, as pathfarm-render does (scene_model.h): same floats, same image. A
     // camera move into another cell shifts every instance the backend sees; within its cell
     // it moves only the camera.
-    SceneChanges& changes = next.changes;
     recentre_for_backend(scene_, previous_origin, changes);
     mark_deformed(changes);
     if (backend_.wants_bvh_nodes()) backend_.provide_mesh_bvhs(mesh_bvhs());

@@ -1,6 +1,8 @@
 // Conversion between SceneState and SceneModel.
 #include "common/scene/scene_state.h"
 
+#include <algorithm>
+
 namespace pathfarm {
 namespace {
 
@@ -52,38 +54,108 @@ SceneState scene_state_from_model(const SceneModel& model) {
     return s;
 }
 
-SceneModel to_scene_model(const SceneState& s) {
-    SceneModel m;
-    const auto images = dense_index(s.images), textures = dense_index(s.textures);
-    const auto materials = dense_index(s.materials), meshes = dense_index(s.meshes);
-    for (const auto& [id, image] : s.images)
-        m.images.push_back(image);
-    for (const auto& [id, texture] : s.textures) {
-        m.textures.push_back(texture);
-        m.textures.back().image = remap(images, texture.image);
-    }
-    for (const auto& [id, material] : s.materials) {
-        Material mat = material;
-        for (TextureRef* ref : {&mat.base_color_texture, &mat.metallic_roughness_texture,
-                                &mat.normal_texture, &mat.emissive_texture})
-            remap_texture(*ref, textures);
-        m.materials.push_back(std::move(mat));
-    }
-    if (m.materials.empty()) m.materials.emplace_back();
-    for (const auto& [id, mesh] : s.meshes) {
-        m.meshes.push_back(mesh);
-        m.meshes.back().material = std::max(0, remap(materials, mesh.material));
-    }
+namespace {
+
+// The dense forms of single objects, shared by the whole conversion and the patch so the two
+// cannot differ.
+struct DenseIndices {
+    std::map<uint32_t, int> images, textures, materials, meshes;
+    explicit DenseIndices(const SceneState& s)
+        : images(dense_index(s.images)),
+          textures(dense_index(s.textures)),
+          materials(dense_index(s.materials)),
+          meshes(dense_index(s.meshes)) {}
+};
+
+Texture dense_texture(const Texture& texture, const DenseIndices& d) {
+    Texture out = texture;
+    out.image = remap(d.images, texture.image);
+    return out;
+}
+
+Material dense_material(const Material& material, const DenseIndices& d) {
+    Material out = material;
+    for (TextureRef* ref : {&out.base_color_texture, &out.metallic_roughness_texture,
+                            &out.normal_texture, &out.emissive_texture})
+        remap_texture(*ref, d.textures);
+    return out;
+}
+
+Mesh dense_mesh(const Mesh& mesh, const DenseIndices& d) {
+    Mesh out = mesh;
+    out.material = std::max(0, remap(d.materials, mesh.material));
+    return out;
+}
+
+// Instances, cameras (the active one first) and the environment: small, so placed afresh.
+void place_view(const SceneState& s, const DenseIndices& d, SceneModel& m) {
+    m.instances.clear();
     for (const auto& [id, inst] : s.instances) {
-        const int mesh = remap(meshes, int(inst.mesh));
+        const int mesh = remap(d.meshes, int(inst.mesh));
         if (mesh >= 0) m.instances.push_back({mesh, -1, inst.transform, id, inst.dynamic});
     }
+    m.cameras.clear();
     const auto active = s.cameras.find(s.active_camera);
     if (active != s.cameras.end()) m.cameras.push_back(active->second);
     for (const auto& [id, camera] : s.cameras)
         if (id != s.active_camera) m.cameras.push_back(camera);
     m.environment = s.environment;
+    m.origin = glm::dvec3(0.0);
+}
+
+// Copies the objects of `ids` from `objects` into `dense` (both in id order), converted.
+template <typename T, typename Convert>
+void copy_changed(const std::map<uint32_t, T>& objects, const std::set<uint32_t>& ids,
+                  std::vector<T>& dense, Convert convert) {
+    auto it = objects.begin();
+    std::size_t index = 0;
+    for (const uint32_t id : ids) {  // both ascending: one walk
+        while (it != objects.end() && it->first < id) {
+            ++it;
+            ++index;
+        }
+        if (it == objects.end()) return;
+        if (it->first == id) dense[index] = convert(it->second);
+    }
+}
+
+}  // namespace
+
+SceneModel to_scene_model(const SceneState& s) {
+    SceneModel m;
+    const DenseIndices d(s);
+    for (const auto& [id, image] : s.images)
+        m.images.push_back(image);
+    for (const auto& [id, texture] : s.textures)
+        m.textures.push_back(dense_texture(texture, d));
+    for (const auto& [id, material] : s.materials)
+        m.materials.push_back(dense_material(material, d));
+    if (m.materials.empty()) m.materials.emplace_back();
+    for (const auto& [id, mesh] : s.meshes)
+        m.meshes.push_back(dense_mesh(mesh, d));
+    place_view(s, d, m);
     return m;
+}
+
+bool patch_scene_model(const SceneState& s, const ChangedObjects& changed, SceneModel& m) {
+    const bool same_objects = m.images.size() == s.images.size() &&
+                              m.textures.size() == s.textures.size() &&
+                              m.materials.size() == std::max<std::size_t>(1, s.materials.size()) &&
+                              m.meshes.size() == s.meshes.size() && m.nodes.empty();
+    if (!same_objects) {
+        m = to_scene_model(s);
+        return false;
+    }
+    const DenseIndices d(s);
+    copy_changed(s.images, changed.images, m.images, [](const Image& i) { return i; });
+    copy_changed(s.textures, changed.textures, m.textures,
+                 [&](const Texture& t) { return dense_texture(t, d); });
+    copy_changed(s.materials, changed.materials, m.materials,
+                 [&](const Material& x) { return dense_material(x, d); });
+    copy_changed(s.meshes, changed.meshes, m.meshes,
+                 [&](const Mesh& x) { return dense_mesh(x, d); });
+    place_view(s, d, m);
+    return true;
 }
 
 }  // namespace pathfarm

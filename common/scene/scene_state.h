@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 
 #include "common/scene/scene_model.h"
 
@@ -44,6 +45,18 @@ SceneState scene_state_from_model(const SceneModel& model);
 // Dense copy for rendering: ids map to indices in id order; dangling references become -1
 // (or the first material).
 SceneModel to_scene_model(const SceneState& state);
+
+// Ids of objects whose content changed while no object was added or removed.
+struct ChangedObjects {
+    std::set<uint32_t> images, textures, materials, meshes;
+};
+// Brings `model`, made by to_scene_model() (or this) from an earlier state holding the same
+// objects, to `state` without copying what did not change: the named objects are converted
+// again, instances and cameras placed afresh (a matrix each) and the origin reset, so the
+// result equals to_scene_model(state). A tracer's per-frame copy of a textured scene was
+// megabytes (docs/performance.md). Converts the whole state, and returns false, when the
+// model does not hold the same objects.
+bool patch_scene_model(const SceneState& state, const ChangedObjects& changed, SceneModel& model);
 
 // 64-bit content hash over everything in the state, in id order, floats by bit pattern.
 uint64_t content_hash(const SceneState& state);

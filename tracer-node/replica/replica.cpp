@@ -112,17 +112,18 @@ void Replica::note(const CommitOp& op) {
         op);
 }
 
-ReplicaScene Replica::take_scene() {
+SceneChanges Replica::update_scene(SceneModel& scene) {
     const SceneState& s = state_.scene;
-    ReplicaScene out{to_scene_model(s), {}};
-    SceneChanges& c = out.changes;
     const PendingChanges& p = pending_;
+    SceneChanges c;
     c.structure = p.structure;
     c.camera = p.camera;
     c.settings = p.settings;
     c.environment = p.environment;
     c.lights = p.lights;
-    if (!c.structure) {
+    if (c.structure) {
+        scene = to_scene_model(s);
+    } else {
         c.instances = indices_of(p.instances, instance_index(s));
         c.mesh_vertices = indices_of(p.meshes, dense_index(s.meshes));
         c.materials = indices_of(p.materials, dense_index(s.materials));
@@ -134,9 +135,13 @@ ReplicaScene Replica::take_scene() {
             c.lights = c.lights || emissive_mesh(s, s.instances.at(id).mesh);
         for (uint32_t mesh : p.meshes)
             c.lights = c.lights || emissive_mesh(s, mesh);
+        // A model that does not hold this state's objects (the first call) is converted
+        // whole, which every backend must then take as new.
+        if (!patch_scene_model(s, {p.images, p.textures, p.materials, p.meshes}, scene))
+            c = SceneChanges::everything();
     }
     pending_ = PendingChanges{};
-    return out;
+    return c;
 }
 
 }  // namespace pathfarm::tracer

@@ -15,12 +15,6 @@
 
 namespace pathfarm::tracer {
 
-// The scene as the backend renders it and what changed since the last one handed out.
-struct ReplicaScene {
-    SceneModel scene;
-    SceneChanges changes;
-};
-
 class Replica {
 public:
     // Bulk chunks arrive before the Commit message of the same frame.
@@ -34,14 +28,16 @@ public:
     uint64_t commit() const { return state_.commit; }
     bool initialised() const { return state_.initialised; }
     const ReplicaState& state() const { return state_; }
-    // True when commits changed the scene since the last take_scene().
+    // True when commits changed the scene since the last update_scene().
     bool scene_changed() const { return !pending_.empty(); }
-    // The dense scene with the changes (as its indices) since the last call; everything the
-    // first time.
-    ReplicaScene take_scene();
+    // Brings `scene` (what the last call left there; anything the first time) to the dense form
+    // of the replica's state (to_scene_model) and returns the changes since that call, as
+    // indices; everything the first time. Only what the commits named is copied
+    // (patch_scene_model): a camera move in a textured scene copies no texels.
+    SceneChanges update_scene(SceneModel& scene);
 
 private:
-    // What changed, by object id, until take_scene turns ids into indices.
+    // What changed, by object id, until update_scene turns ids into indices.
     struct PendingChanges {
         bool structure = false, camera = false, settings = false, environment = false;
         bool lights = false;

@@ -1,6 +1,7 @@
 // Replica equality (DESIGN.md): random edit sequences through the scene graph, the commit
 // builder and the wire codec; after every commit the replica's content hash equals the
-// coordinator's. Late joiners start from a snapshot. Commits on the wrong base are refused.
+// coordinator's. Late joiners start from a snapshot. Commits on the wrong base are refused. A
+// tracer's dense model, patched commit by commit, equals the whole conversion of its state.
 #include <set>
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include "coordinator/commit/commit_builder.h"
 #include "coordinator/scene_graph/scene_graph.h"
 #include "tests/support/commit_wire.h"
+#include "tracer-node/replica/replica.h"
 
 namespace pathfarm::coord {
 namespace {
@@ -28,9 +30,10 @@ Mat4 random_transform(Pcg32& rng) {
     return glm::translate(Mat4(1.0f), t) * glm::scale(Mat4(1.0f), Vec3(0.1f + rng.next_float()));
 }
 
-void random_edit(SceneGraph& g, Pcg32& rng, std::vector<uint32_t>& nodes) {
+// Edit `kind` (0-10) with random arguments; 0, 1, 3, 4 and 8 add or remove objects.
+void random_edit(SceneGraph& g, Pcg32& rng, std::vector<uint32_t>& nodes, uint32_t kind) {
     const SceneState& s = g.state();
-    switch (rng.next_u32() % 11) {
+    switch (kind) {
         case 0: {  // add a mesh and an instance of it
             Mesh m = make_sphere(0.1f + rng.next_float(), 3 + rng.next_u32() % 5,
                                  4 + rng.next_u32() % 6, int(pick(rng, s.materials)));
@@ -127,7 +130,7 @@ TEST(ReplicaEquality, ThousandRandomEditSequences) {
     for (uint64_t frame = 1; frame <= 1000; ++frame) {
         const int edits = 1 + int(rng.next_u32() % 6);
         for (int e = 0; e < edits; ++e)
-            random_edit(graph, rng, nodes);
+            random_edit(graph, rng, nodes, rng.next_u32() % 11);
         graph.advance(double(frame) / 30.0);
         const Commit commit = build_commit(graph.state(), graph.take_changes(), frame, frame - 1);
         const Status applied = apply_commit(replica, test::through_wire(commit));
@@ -142,6 +145,64 @@ TEST(ReplicaEquality, ThousandRandomEditSequences) {
         }
     }
     EXPECT_GT(distinct.size(), 900u) << "the edits must really change the scene";
+}
+
+// Ops the scene graph never makes but the protocol allows: an image or a texture replaced in
+// place (same id), which a tracer must take without a structural rebuild.
+void replace_in_place(const SceneState& s, Pcg32& rng, Commit& commit) {
+    if (!s.images.empty() && rng.next_u32() % 2 == 0) {
+        Image img{"replaced", 2, 2, std::vector<uint8_t>(16)};
+        for (uint8_t& b : img.rgba)
+            b = uint8_t(rng.next_u32());
+        commit.ops.push_back(AddImage{pick(rng, s.images), std::move(img)});
+    }
+    if (!s.textures.empty() && rng.next_u32() % 2 == 0) {
+        const uint32_t id = pick(rng, s.textures);
+        Texture t = s.textures.at(id);
+        t.sampler.wrap_s = WrapMode(rng.next_u32() % 3);
+        t.sampler.filter = rng.next_u32() % 2 ? FilterMode::nearest : FilterMode::linear;
+        commit.ops.push_back(SetTexture{id, t});
+    }
+}
+
+// Everything to_scene_model() writes: the objects by content hash (scene_state_from_model maps
+// indices to ids in order, so the order counts) and what that mapping leaves out.
+void expect_same_model(const SceneModel& patched, const SceneModel& whole, uint64_t frame) {
+    EXPECT_EQ(content_hash(scene_state_from_model(patched)),
+              content_hash(scene_state_from_model(whole)))
+        << "frame " << frame;
+    ASSERT_EQ(patched.instances.size(), whole.instances.size()) << "frame " << frame;
+    for (std::size_t i = 0; i < whole.instances.size(); ++i)
+        EXPECT_EQ(patched.instances[i].id, whole.instances[i].id) << "frame " << frame;
+    EXPECT_EQ(patched.origin, whole.origin) << "frame " << frame;
+}
+
+TEST(ReplicaEquality, ATracersPatchedModelEqualsTheWholeConversion) {
+    SceneGraph graph(make_cornell_box());
+    tracer::Replica replica;
+    ASSERT_TRUE(replica.apply(test::through_wire(make_snapshot(graph.state(), 0))).ok());
+    SceneModel model;
+    ASSERT_TRUE(replica.update_scene(model).structure);
+    Pcg32 rng(77);
+    std::vector<uint32_t> nodes;
+    // Mostly edits in place, so most frames patch; now and then an add or a remove.
+    const uint32_t kinds[] = {2, 2, 5, 6, 7, 7, 9, 10, 2, 7, 0, 8, 3, 1};
+    int patched = 0;
+    for (uint64_t frame = 1; frame <= 400; ++frame) {
+        const int edits = 1 + int(rng.next_u32() % 3);
+        const uint32_t last = frame % 10 == 0 ? 14 : 10;  // structural kinds every 10th frame
+        for (int e = 0; e < edits; ++e)
+            random_edit(graph, rng, nodes, kinds[rng.next_u32() % last]);
+        graph.advance(double(frame) / 30.0);
+        Commit commit = build_commit(graph.state(), graph.take_changes(), frame, frame - 1);
+        replace_in_place(replica.state().scene, rng, commit);
+        const Status applied = replica.apply(test::through_wire(commit));
+        ASSERT_TRUE(applied.ok()) << "frame " << frame << ": " << applied.error().message;
+        const tracer::SceneChanges changes = replica.update_scene(model);
+        patched += changes.structure ? 0 : 1;
+        expect_same_model(model, to_scene_model(replica.state().scene), frame);
+    }
+    EXPECT_GT(patched, 300) << "most frames must take the patch, not the whole conversion";
 }
 
 TEST(ReplicaEquality, CommitOnTheWrongBaseIsRefusedAndChangesNothing) {
