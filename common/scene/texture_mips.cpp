@@ -2,6 +2,8 @@
 #include "common/scene/texture_mips.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 
 #include "common/scene/scene_model.h"
@@ -9,7 +11,48 @@
 namespace pathfarm {
 namespace {
 
-uint8_t to_byte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+// float(b) / 255, looked up (no division per channel and texel).
+const std::array<float, 256>& unit_decode_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int b = 0; b < 256; ++b)
+            t[std::size_t(b)] = float(b) / 255.0f;
+        return t;
+    }();
+    return table;
+}
+
+uint8_t srgb_byte_by_formula(float linear) { return encode_unit_byte(linear_to_srgb(linear)); }
+
+// thresholds[k] = the least float at which srgb_byte_by_formula reaches k + 1, found by
+// bisection over the float bit patterns (they order as the values do for x >= 0), so counting
+// the thresholds at or below x gives the formula's byte exactly (it is monotone), at eight
+// comparisons instead of a powf per channel and texel.
+const std::array<float, 255>& srgb_encode_thresholds() {
+    static const std::array<float, 255> thresholds = [] {
+        std::array<float, 255> t{};
+        const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+        for (int k = 0; k < 255; ++k) {
+            uint32_t lo = 0, hi = one;  // byte(lo) <= k < byte(hi) = 255 (for k < 255)
+            while (hi - lo > 1) {
+                const uint32_t mid = lo + (hi - lo) / 2;
+                (srgb_byte_by_formula(std::bit_cast<float>(mid)) > k ? hi : lo) = mid;
+            }
+            t[std::size_t(k)] = std::bit_cast<float>(hi);
+        }
+        return t;
+    }();
+    return thresholds;
+}
+
+uint8_t encode_srgb_byte(float linear, const std::array<float, 255>& thresholds) {
+    if (!(linear > 0.0f)) return 0;  // also NaN, as the formula's clamp
+    int byte = 0;
+    for (int step = 128; step > 0; step /= 2)  // thresholds ascend: a branch-free bisection
+        byte +=
+            (byte + step <= 255 && thresholds[std::size_t(byte + step - 1)] <= linear) ? step : 0;
+    return uint8_t(byte);
+}
 
 // Source texels [first, last) that destination texel i of n covers along an axis of m.
 struct Span {
@@ -19,13 +62,25 @@ Span span(int i, int n, int m) { return {int(int64_t(i) * m / n), int(int64_t(i 
 
 }  // namespace
 
+uint8_t encode_unit_byte(float v) {
+    const float x = v > 0.0f ? std::min(v, 1.0f) * 255.0f : 0.0f;  // NaN too: 0
+    const float whole = std::floor(x);
+    return uint8_t(int(whole) + int(x - whole >= 0.5f));  // x - whole is exact for x >= 0
+}
+
+uint8_t encode_srgb_byte(float linear) {
+    return encode_srgb_byte(linear, srgb_encode_thresholds());
+}
+
 Image downsample_image(const Image& source, bool srgb) {
     Image out;
     out.name = source.name;
     out.width = std::max(1, source.width / 2);
     out.height = std::max(1, source.height / 2);
     out.rgba.resize(std::size_t(out.width) * out.height * 4);
-    const auto& decode = srgb_decode_table();
+    const auto& unit = unit_decode_table();
+    const auto& colour = srgb ? srgb_decode_table() : unit;
+    const auto& thresholds = srgb_encode_thresholds();
     for (int y = 0; y < out.height; ++y) {
         const Span sy = span(y, out.height, source.height);
         for (int x = 0; x < out.width; ++x) {
@@ -34,15 +89,17 @@ Image downsample_image(const Image& source, bool srgb) {
             for (int v = sy.first; v < sy.last; ++v)
                 for (int u = sx.first; u < sx.last; ++u) {
                     const uint8_t* p = &source.rgba[(std::size_t(v) * source.width + u) * 4];
-                    for (int c = 0; c < 3; ++c)
-                        sum[c] += srgb ? decode[p[c]] : float(p[c]) / 255.0f;
-                    sum[3] += float(p[3]) / 255.0f;
+                    sum[0] += colour[p[0]];
+                    sum[1] += colour[p[1]];
+                    sum[2] += colour[p[2]];
+                    sum[3] += unit[p[3]];
                 }
             const float inv = 1.0f / float((sy.last - sy.first) * (sx.last - sx.first));
             uint8_t* q = &out.rgba[(std::size_t(y) * out.width + x) * 4];
             for (int c = 0; c < 3; ++c)
-                q[c] = to_byte(srgb ? linear_to_srgb(sum[c] * inv) : sum[c] * inv);
-            q[3] = to_byte(sum[3] * inv);
+                q[c] = srgb ? encode_srgb_byte(sum[c] * inv, thresholds)
+                            : encode_unit_byte(sum[c] * inv);
+            q[3] = encode_unit_byte(sum[3] * inv);
         }
     }
     return out;

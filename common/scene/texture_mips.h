@@ -18,6 +18,11 @@ struct SceneModel;
 // average of the source texels it covers (three columns or rows at an odd edge). With srgb the
 // colour channels are averaged decoded, in linear light, and encoded again.
 Image downsample_image(const Image& source, bool srgb);
+// The bytes downsample_image writes: lround(clamp(v, 0, 1) * 255), and the sRGB byte of a
+// linear value, equal to encode_unit_byte(linear_to_srgb(linear)) but found in a table of the
+// byte boundaries instead of a powf (the chains of Sponza's 17 MB of texels).
+uint8_t encode_unit_byte(float v);
+uint8_t encode_srgb_byte(float linear);
 
 // The level whose texels best match a footprint covering `texels` texels of level 0 (an
 // area): floor(log2(texels) / 2), clamped to [0, max_level]. Integer steps, so both backends

@@ -4,6 +4,7 @@
 // the footprint in powers of four. Rebuilds follow the changes they are told of.
 #include "common/scene/texture_mips.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -103,6 +104,42 @@ TEST(TextureMips, UniformImagesStayUniformAtOddSizes) {
         for (std::size_t i = 0; i < half.rgba.size(); ++i)
             ASSERT_EQ(half.rgba[i], texel[i % 4]) << w << "x" << h;
     }
+}
+
+// The table-driven encodings against the formulas they replace, at random values and at every
+// byte boundary of the sRGB curve, where a wrong threshold or an off-by-one would show.
+TEST(TextureMips, ByteEncodingsEqualTheirFormulas) {
+    const auto by_formula = [](float v) {
+        return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+    };
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(-0.1f, 1.1f), exponent(-30.0f, 0.0f);
+    std::vector<float> values;
+    for (int i = 0; i < 200000; ++i) {
+        values.push_back(unit(rng));
+        values.push_back(std::exp2(exponent(rng)));  // small values, the curve's linear part
+    }
+    for (int k = 0; k < 255; ++k) {  // 64 floats either side of each boundary
+        const double code = (k + 0.5) / 255.0;
+        float x = float(code <= 0.04045 ? code / 12.92 : std::pow((code + 0.055) / 1.055, 2.4));
+        for (int i = 0; i < 64; ++i)
+            x = std::nextafter(x, 0.0f);
+        for (int i = 0; i < 128; ++i, x = std::nextafter(x, 2.0f))
+            values.push_back(x);
+    }
+    int wrong_srgb = 0, wrong_unit = 0;
+    for (const float v : values) {
+        wrong_srgb += encode_srgb_byte(v) != by_formula(linear_to_srgb(v));
+        wrong_unit += encode_unit_byte(v) != by_formula(v);
+        wrong_unit += encode_unit_byte(float(int(v * 255.0f)) / 255.0f + 0.5f / 255.0f) !=
+                      by_formula(float(int(v * 255.0f)) / 255.0f + 0.5f / 255.0f);  // halves
+    }
+    EXPECT_EQ(wrong_srgb, 0) << "of " << values.size();
+    EXPECT_EQ(wrong_unit, 0) << "of " << 2 * values.size();
+    EXPECT_EQ(encode_srgb_byte(std::nanf("")), 0);
+    EXPECT_EQ(encode_unit_byte(std::nanf("")), 0);
+    EXPECT_EQ(encode_srgb_byte(1.0f), 255);
+    EXPECT_EQ(encode_srgb_byte(5.0f), 255);
 }
 
 TEST(TextureMips, LevelFollowsTheFootprintInPowersOfFour) {
