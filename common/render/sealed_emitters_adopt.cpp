@@ -15,26 +15,9 @@
 
 namespace pathfarm {
 
-namespace {
-
-// A content hash eight bytes a step (FNV-1a's byte steps cost a millisecond a frame on a
-// scene of 12k triangles); kept in memory only, never compared across builds.
-uint64_t hash_words(const void* data, std::size_t size, uint64_t h) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    std::size_t i = 0;
-    for (; i + 8 <= size; i += 8) {
-        uint64_t w;
-        std::memcpy(&w, bytes + i, 8);
-        h = std::rotl((h ^ w) * 0x9e3779b97f4a7c15ULL, 29);
-    }
-    return fnv1a64(bytes + i, size - i, h);
-}
-
-}  // namespace
-
 uint64_t SealedEmitters::geometry_hash(const SceneModel& scene) {
     uint64_t h = fnv1a64(nullptr, 0);
-    auto add = [&h](const void* data, std::size_t size) { h = hash_words(data, size, h); };
+    auto add = [&h](const void* data, std::size_t size) { h = hash_bytes_fast(data, size, h); };
     for (const Mesh& m : scene.meshes) {
         add(m.positions.data(), m.positions.size() * sizeof(Vec3));
         add(m.indices.data(), m.indices.size() * sizeof(uint32_t));

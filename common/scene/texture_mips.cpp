@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 
+#include "common/base/hash.h"
 #include "common/scene/scene_model.h"
 
 namespace pathfarm {
@@ -122,10 +123,15 @@ std::vector<uint8_t> TextureMips::srgb_use(const SceneModel& scene) {
     return srgb;
 }
 
+TextureMips::Source TextureMips::source_of(const Image& image, uint8_t srgb) {
+    return {image.width, image.height, hash_bytes_fast(image.rgba.data(), image.rgba.size()), srgb};
+}
+
 void TextureMips::build(const SceneModel& scene, std::size_t image) {
     std::vector<Image>& chain = chains_[image];
     chain.clear();
     const Image* level = &scene.images[image];
+    sources_[image] = source_of(*level, srgb_[image]);
     if (level->width <= 0 || level->height <= 0 ||
         level->rgba.size() != std::size_t(level->width) * std::size_t(level->height) * 4)
         return;  // a missing image samples white at every level
@@ -136,10 +142,25 @@ void TextureMips::build(const SceneModel& scene, std::size_t image) {
 }
 
 void TextureMips::rebuild(const SceneModel& scene) {
+    std::vector<std::vector<Image>> before = std::move(chains_);
+    const std::vector<Source> built_from = std::move(sources_);
     srgb_ = srgb_use(scene);
     chains_.assign(scene.images.size(), {});
-    for (std::size_t i = 0; i < scene.images.size(); ++i)
-        build(scene, i);
+    sources_.assign(scene.images.size(), {});
+    std::vector<bool> taken(before.size(), false);
+    for (std::size_t i = 0; i < scene.images.size(); ++i) {
+        const Source wanted = source_of(scene.images[i], srgb_[i]);
+        std::size_t j = 0;
+        while (j < built_from.size() && (taken[j] || !(built_from[j] == wanted)))
+            ++j;
+        if (j == built_from.size()) {
+            build(scene, i);
+            continue;
+        }
+        taken[j] = true;
+        chains_[i] = std::move(before[j]);
+        sources_[i] = wanted;
+    }
 }
 
 void TextureMips::update(const SceneModel& scene, const std::vector<uint32_t>& changed_textures) {

@@ -245,3 +245,46 @@ TEST(TextureMips, UpdateRebuildsChangedImagesAndColourUse) {
 
 }  // namespace
 }  // namespace pathfarm
+
+namespace pathfarm {
+namespace {
+
+// A rebuild after a structural change takes over the chains of images it has seen (same size,
+// texels and colour use), wherever they moved, and builds the rest; either way every chain is
+// what a fresh build gives.
+TEST(TextureMips, RebuildKeepsTheChainsOfUnchangedImagesOnly) {
+    std::mt19937 rng(23);
+    SceneModel scene = checker_quad(8);
+    scene.images.clear();
+    for (int i = 0; i < 4; ++i)
+        scene.images.push_back(random_image(rng, 5 + i, 9 - i));
+    scene.textures = {Texture{0, {}}, Texture{1, {}}, Texture{2, {}}, Texture{3, {}}};
+    scene.materials[0].base_color_texture.texture = 0;  // image 0 in sRGB, the rest linear
+    TextureMips mips;
+    mips.rebuild(scene);
+    std::vector<const uint8_t*> kept;
+    for (int i = 0; i < 4; ++i)
+        kept.push_back(mips.levels(i)[0].rgba.data());
+    // Images 0 and 1 swap places, image 2 gets one texel changed, image 3 turns colour.
+    std::swap(scene.images[0], scene.images[1]);
+    scene.images[2].rgba[5] ^= 0x40;
+    scene.textures = {Texture{0, {}}, Texture{1, {}}, Texture{2, {}}, Texture{3, {}}};
+    scene.materials[0].base_color_texture.texture = 1;  // the old image 0, still sRGB
+    scene.materials[0].emissive_texture.texture = 3;    // image 3 now sRGB
+    mips.rebuild(scene);
+    EXPECT_EQ(mips.levels(1)[0].rgba.data(), kept[0]) << "moved, same use: taken over";
+    EXPECT_EQ(mips.levels(0)[0].rgba.data(), kept[1]);
+    TextureMips fresh;
+    fresh.rebuild(scene);
+    for (int i = 0; i < 4; ++i) {
+        ASSERT_EQ(mips.levels(i).size(), fresh.levels(i).size()) << "image " << i;
+        for (std::size_t l = 0; l < fresh.levels(i).size(); ++l)
+            EXPECT_EQ(mips.levels(i)[l].rgba, fresh.levels(i)[l].rgba)
+                << "image " << i << " level " << l + 1;
+    }
+    EXPECT_NE(mips.levels(2)[0].rgba.data(), kept[2]) << "new texels: built anew";
+    EXPECT_NE(mips.levels(3)[0].rgba.data(), kept[3]) << "new colour use: built anew";
+}
+
+}  // namespace
+}  // namespace pathfarm
