@@ -8,6 +8,7 @@
 //   turned, and the whole light sampler built or refitted (issue: many lights).
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "common/render/sealed_emitters.h"
 #include "common/sampling/rng.h"
 #include "common/scene/load/builtin_scenes.h"
+#include "common/scene/load/procedural_mesh.h"
 #include "common/scene/load/scene_loader.h"
 #include "coordinator/accel/accel_updater.h"
 #include "coordinator/scene_graph/scene_graph.h"
@@ -139,6 +141,36 @@ void sealed_emitter_rows(const SceneModel& sponza) {
         inst.transform = glm::translate(Mat4(1.0f), Vec3(0.1f, 0.0f, 0.2f)) * inst.transform;
     row("sealed_emitters_adopt_translated_sponza", triangle_count(sponza),
         median_ms(5, [&] { (void)sealed.adopt_translated(moved); }));
+    // A deforming occluder in a level (a skinned figure's stand-in: a sphere whose vertices
+    // move every frame, floating in Sponza's court): adopted, its surfaces welded again alone,
+    // against analysed from scratch.
+    SceneModel level = sponza;
+    level.meshes.push_back(make_sphere(0.5f, 24, 48, 0));
+    const std::size_t sphere = level.meshes.size() - 1;
+    level.instances.push_back(
+        {int(sphere), -1, glm::translate(Mat4(1.0f), Vec3(0.0f, 3.0f, 0.0f)), 0, true});
+    const std::vector<Vec3> rest = level.meshes[sphere].positions;
+    int frame = 0, adopted = 0;
+    const auto deform = [&] {
+        const float s = 1.0f + 0.01f * float(++frame % 7);
+        for (std::size_t v = 0; v < rest.size(); ++v)
+            level.meshes[sphere].positions[v] = rest[v] * Vec3(s, 1.0f, 1.0f / s);
+    };
+    auto kept = std::make_unique<SealedEmitters>(level);
+    row("sealed_emitters_deformed_sphere_in_sponza_adopted", triangle_count(level),
+        median_ms(5, [&] {
+            deform();
+            if (kept->adopt(level))
+                ++adopted;
+            else
+                kept = std::make_unique<SealedEmitters>(level);
+        }));
+    row("sealed_emitters_deformed_sphere_in_sponza_analysed", triangle_count(level),
+        median_ms(5, [&] {
+            deform();
+            const SealedEmitters fresh(level);
+        }));
+    std::fprintf(stderr, "accel_bench: the deformed sphere was adopted %d times of 5\n", adopted);
 }
 
 // The light tree over builtin:light-field's emitters: built, refitted after the ring turned

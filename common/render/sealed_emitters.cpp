@@ -65,7 +65,8 @@ SealedEmitters::Side SealedEmitters::side_of(const Enclosure& e, const Vec3& p) 
 
 SealedEmitters::SealedEmitters(const SceneModel& scene)
     : instance_count_(scene.instances.size()), isolated_(scene.instances.size(), false) {
-    geometry_hash_ = geometry_hash(scene);
+    layout_hash_ = layout_hash(scene);
+    position_hashes_ = position_hashes(scene);
     for (const Instance& inst : scene.instances) {
         linear_.push_back(Mat3(inst.transform));
         translation_.push_back(glm::dvec3(Vec3(inst.transform[3])));

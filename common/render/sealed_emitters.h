@@ -44,7 +44,10 @@ public:
     // them; the moved emitters' sides of the others. The result equals a new analysis of
     // `scene`; a fraction of its cost. On false the analysis must be replaced.
     bool adopt_moved_instances(const SceneModel& scene);
-    // Either of the two (one pass over the geometry).
+    // Either of the two (one pass over the geometry), and also when meshes deformed (their
+    // vertices moved, their triangles the same): a deformed mesh's instances count as moved,
+    // so a deformed occluder must share no welded vertex with another's either (a skinned
+    // figure); its surfaces are welded again from its new vertices.
     bool adopt(const SceneModel& scene);
 
 private:
@@ -70,11 +73,18 @@ private:
                         const std::vector<std::vector<uint32_t>>& components);
     Side emitter_side(const Enclosure& e, const Instance& inst, const Mesh& mesh) const;
 
-    static uint64_t geometry_hash(const SceneModel& scene);
+    // What the adopt functions compare: everything of the geometry but the vertex positions
+    // (triangles, materials, which mesh each instance places), and each mesh's positions.
+    static uint64_t layout_hash(const SceneModel& scene);
+    static std::vector<uint64_t> position_hashes(const SceneModel& scene);
+    bool same_layout(const SceneModel& scene) const;
     bool placed_as_analysed(const SceneModel& scene, std::size_t instance) const;
-    // adopt_translated and adopt_moved_instances once the geometry is known to be the same.
+    // adopt_translated and adopt_moved_instances once the geometry is known to be the same;
+    // moved_instances also with the meshes flagged in `deformed` (by mesh index; empty: none).
     bool translated(const SceneModel& scene);
-    bool moved_instances(const SceneModel& scene);
+    bool moved_instances(const SceneModel& scene, const std::vector<bool>& deformed);
+    // A moved or deformed occluder's vertices and enclosures leave the analysis.
+    void remove_occluder(const SceneModel& scene, uint32_t instance, bool deformed);
     // Welds moved occluder `instance` alone where `scene` places it (false if it shares a
     // vertex with another instance) and adds its enclosures.
     bool moved_occluder(const SceneModel& scene, uint32_t instance);
@@ -102,9 +112,10 @@ private:
                                       std::vector<uint32_t>& merged);
     std::unordered_map<uint32_t, MeshSurfaces> mesh_surfaces_;  // by instance, once moved
     bool skipped_ = false;  // over kMaxTriangles: nothing is ever culled
-    // What adopt_translated() compares: geometry and materials, the instances' linear parts,
+    // What the adopt functions compare: geometry and materials, the instances' linear parts,
     // and their translations (in double, as the analysed scene had them).
-    uint64_t geometry_hash_ = 0;
+    uint64_t layout_hash_ = 0;
+    std::vector<uint64_t> position_hashes_;  // by mesh
     std::vector<Mat3> linear_;
     std::vector<glm::dvec3> translation_;
     glm::dvec3 shift_{0.0};  // added to the analysed scene's coordinates by adopt_translated

@@ -15,12 +15,13 @@
 
 namespace pathfarm {
 
-uint64_t SealedEmitters::geometry_hash(const SceneModel& scene) {
+uint64_t SealedEmitters::layout_hash(const SceneModel& scene) {
     uint64_t h = fnv1a64(nullptr, 0);
     auto add = [&h](const void* data, std::size_t size) { h = hash_bytes_fast(data, size, h); };
     for (const Mesh& m : scene.meshes) {
-        add(m.positions.data(), m.positions.size() * sizeof(Vec3));
         add(m.indices.data(), m.indices.size() * sizeof(uint32_t));
+        const uint64_t vertices = m.positions.size();
+        add(&vertices, sizeof vertices);
         add(&m.material, sizeof m.material);
     }
     for (const Material& m : scene.materials) {
@@ -32,10 +33,20 @@ uint64_t SealedEmitters::geometry_hash(const SceneModel& scene) {
     return h;
 }
 
+std::vector<uint64_t> SealedEmitters::position_hashes(const SceneModel& scene) {
+    std::vector<uint64_t> out;
+    out.reserve(scene.meshes.size());
+    for (const Mesh& m : scene.meshes)
+        out.push_back(hash_bytes_fast(m.positions.data(), m.positions.size() * sizeof(Vec3)));
+    return out;
+}
+
+bool SealedEmitters::same_layout(const SceneModel& scene) const {
+    return scene.instances.size() == instance_count_ && layout_hash(scene) == layout_hash_;
+}
+
 bool SealedEmitters::adopt_translated(const SceneModel& scene) {
-    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
-        return false;
-    return translated(scene);
+    return same_layout(scene) && position_hashes(scene) == position_hashes_ && translated(scene);
 }
 
 bool SealedEmitters::translated(const SceneModel& scene) {
@@ -59,23 +70,31 @@ bool SealedEmitters::placed_as_analysed(const SceneModel& scene, std::size_t i) 
 }
 
 bool SealedEmitters::adopt(const SceneModel& scene) {
-    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
-        return false;
-    return translated(scene) || moved_instances(scene);
+    if (!same_layout(scene)) return false;
+    std::vector<uint64_t> positions = position_hashes(scene);
+    if (positions == position_hashes_) return translated(scene) || moved_instances(scene, {});
+    std::vector<bool> deformed(positions.size());
+    for (std::size_t m = 0; m < positions.size(); ++m)
+        deformed[m] = positions[m] != position_hashes_[m];
+    if (!moved_instances(scene, deformed)) return false;
+    position_hashes_ = std::move(positions);
+    return true;
 }
 
 bool SealedEmitters::adopt_moved_instances(const SceneModel& scene) {
-    if (scene.instances.size() != instance_count_ || geometry_hash(scene) != geometry_hash_)
-        return false;
-    return moved_instances(scene);
+    return same_layout(scene) && position_hashes(scene) == position_hashes_ &&
+           moved_instances(scene, {});
 }
 
-bool SealedEmitters::moved_instances(const SceneModel& scene) {
+bool SealedEmitters::moved_instances(const SceneModel& scene, const std::vector<bool>& deformed) {
     if (shift_ != glm::dvec3(0.0)) return false;
     if (skipped_) return true;  // the same occluders: over the limit still
+    const auto reshaped = [&](uint32_t i) {
+        return !deformed.empty() && deformed[std::size_t(scene.instances[i].mesh)];
+    };
     std::vector<uint32_t> moved, occluders, emitters;
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-        if (placed_as_analysed(scene, i)) continue;
+        if (!reshaped(i) && placed_as_analysed(scene, i)) continue;
         moved.push_back(i);
         const Material& m = material_of(scene, i);
         if (occludes(m)) {
@@ -85,19 +104,8 @@ bool SealedEmitters::moved_instances(const SceneModel& scene) {
         }
         if (m.is_emissive()) emitters.push_back(i);
     }
-    // The moved occluders leave: their vertices, then their enclosures.
-    for (uint32_t i : occluders) {
-        MeshSurfaces& surfaces = surfaces_of(scene, i);
-        if (!surfaces.placed) {  // where the analysis found it
-            Mat4 analysed(linear_[i]);
-            analysed[3] = Vec4(Vec3(translation_[i]), 1.0f);
-            std::vector<uint32_t> merged;
-            surfaces.keys = place(surfaces, analysed, merged);
-        }
-        for (const WeldKey& key : surfaces.keys)
-            if (auto it = vertex_owner_.find(key); it != vertex_owner_.end() && it->second == i)
-                vertex_owner_.erase(it);
-    }
+    for (uint32_t i : occluders)
+        remove_occluder(scene, i, reshaped(i));
     std::erase_if(enclosures_, [&](const Enclosure& e) {
         return std::binary_search(occluders.begin(), occluders.end(), e.owner);
     });
@@ -115,6 +123,26 @@ bool SealedEmitters::moved_instances(const SceneModel& scene) {
         translation_[i] = glm::dvec3(Vec3(scene.instances[i].transform[3]));
     }
     return true;
+}
+
+void SealedEmitters::remove_occluder(const SceneModel& scene, uint32_t i, bool deformed) {
+    if (deformed) {
+        // Its old vertices are not in the scene any more: those it owns leave (an isolated
+        // occluder owns all of its own), and its surfaces are welded again where it is now.
+        std::erase_if(vertex_owner_, [i](const auto& entry) { return entry.second == i; });
+        mesh_surfaces_.erase(i);
+        return;
+    }
+    MeshSurfaces& surfaces = surfaces_of(scene, i);
+    if (!surfaces.placed) {  // where the analysis found it
+        Mat4 analysed(linear_[i]);
+        analysed[3] = Vec4(Vec3(translation_[i]), 1.0f);
+        std::vector<uint32_t> merged;
+        surfaces.keys = place(surfaces, analysed, merged);
+    }
+    for (const WeldKey& key : surfaces.keys)
+        if (auto it = vertex_owner_.find(key); it != vertex_owner_.end() && it->second == i)
+            vertex_owner_.erase(it);
 }
 
 SealedEmitters::MeshSurfaces& SealedEmitters::surfaces_of(const SceneModel& scene, uint32_t i) {

@@ -1,9 +1,9 @@
-// Adopting the previous analysis when instances move (SealedEmitters::adopt, what a tracer
-// does every frame a ball rolls or a door swings) must give what a new analysis of the new
-// state gives. Searched over random moves of cubes, a sphere, emitters inside and outside
-// them and the walls of a closed room, on a grid coarse enough that corners often meet
-// (surfaces that join: only a new analysis may see them) and with a sphere whose pole
-// vertices meet or not depending on where it is placed.
+// Adopting the previous analysis when instances move or meshes deform (SealedEmitters::adopt,
+// what a tracer does every frame a ball rolls, a door swings or a skinned figure walks) must
+// give what a new analysis of the new state gives. Searched over random moves of cubes, a sphere,
+// emitters inside and outside them and the walls of a closed room, on a grid coarse enough that
+// corners often meet (surfaces that join: only a new analysis may see them) and with a sphere whose
+// pole vertices meet or not depending on where it is placed.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -30,6 +30,8 @@ struct Movable {
 struct Playground {
     SceneModel scene;
     std::vector<Movable> movables;
+    std::vector<int> deformable;                // meshes: the sphere, the cube, the lamp
+    std::vector<std::vector<Vec3>> rest_shape;  // their vertices as made
 };
 
 // Where the room is: far enough from the origin that the sphere's pole vertices, apart in its
@@ -69,14 +71,30 @@ Playground make_playground() {
     for (int k = 0; k < 3; ++k)
         add({{cube, Mat4(1.0f)}});
     add({{cube, Mat4(1.0f)}, {small_lamp, shrink}});  // lantern
-    add({{b.add_mesh(make_sphere(0.35f, 8, 16, wall)), Mat4(1.0f)}, {small_lamp, shrink}});
+    const int sphere = b.add_mesh(make_sphere(0.35f, 8, 16, wall));
+    add({{sphere, Mat4(1.0f)}, {small_lamp, shrink}});
+    p.deformable = {sphere, cube, small_lamp};
     for (int k = 0; k < 2; ++k)
         add({{small_lamp, Mat4(1.0f)}});
     add({{b.add_mesh(make_unit_cube(glass)), Mat4(1.0f)}});
     p.scene = b.finish();
     for (Instance& inst : p.scene.instances)
         inst.transform = glm::translate(Mat4(1.0f), kRoom) * inst.transform;
+    for (int m : p.deformable)
+        p.rest_shape.push_back(p.scene.meshes[std::size_t(m)].positions);
     return p;
+}
+
+// A deformation (what skinning does to a mesh every frame): the rest shape stretched per axis,
+// now and then dented at one vertex, or back to rest.
+void deform(std::mt19937& rng, Playground& p) {
+    const std::size_t k = rng() % p.deformable.size();
+    std::vector<Vec3>& positions = p.scene.meshes[std::size_t(p.deformable[k])].positions;
+    std::uniform_real_distribution<float> stretch(0.7f, 1.3f);
+    const Vec3 s = rng() % 4 == 0 ? Vec3(1.0f) : Vec3(stretch(rng), stretch(rng), stretch(rng));
+    for (std::size_t v = 0; v < positions.size(); ++v)
+        positions[v] = p.rest_shape[k][v] * s;
+    if (rng() % 3 == 0) positions[rng() % positions.size()] *= 0.8f;
 }
 
 // Where a group goes: mostly on a 0.5 grid (corners meet other cubes' and the room's), at
@@ -111,11 +129,14 @@ TEST(SealedEmittersAdopt, MovedInstancesGiveWhatANewAnalysisGives) {
     std::mt19937 rng(20261204);
     auto kept = std::make_unique<SealedEmitters>(p.scene);
     int adopted = 0, analysed = 0, culled_in_room = 0, enclosures_changed = 0;
+    int adopted_deformed = 0;
     std::size_t last_enclosures = kept->enclosure_count();
     constexpr int kSteps = 400;
     for (int step = 0; step < kSteps; ++step) {
         std::uniform_int_distribution<std::size_t> pick(0, p.movables.size() - 1);
-        const int moves = 1 + int(rng() % 3);
+        const int moves = int(rng() % 4);
+        const bool deformed = moves < 2;  // some steps deform alone, some with moves
+        if (deformed) deform(rng, p);
         for (int k = 0; k < moves; ++k) {
             const Movable& m = p.movables[pick(rng)];
             const Mat4 place = glm::translate(Mat4(1.0f), kRoom) * random_place(rng, m.wall);
@@ -124,6 +145,7 @@ TEST(SealedEmittersAdopt, MovedInstancesGiveWhatANewAnalysisGives) {
         }
         if (kept->adopt(p.scene)) {
             ++adopted;
+            adopted_deformed += deformed;
         } else {
             ++analysed;
             kept = std::make_unique<SealedEmitters>(p.scene);
@@ -142,13 +164,14 @@ TEST(SealedEmittersAdopt, MovedInstancesGiveWhatANewAnalysisGives) {
     // The search covered what it is for: most steps adopted, some analysed anew (surfaces
     // that met), lamps culled and enclosures appearing and going.
     EXPECT_GT(adopted, kSteps / 3);
+    EXPECT_GT(adopted_deformed, kSteps / 8);
     EXPECT_GT(analysed, 10);
     EXPECT_GT(culled_in_room, kSteps / 4);
     EXPECT_GT(enclosures_changed, 20);
     std::printf(
-        "adopted %d, analysed anew %d, a lamp culled in the room %d, enclosure count "
-        "changed %d\n",
-        adopted, analysed, culled_in_room, enclosures_changed);
+        "adopted %d (%d with a mesh deformed), analysed anew %d, a lamp culled in the room %d, "
+        "enclosure count changed %d\n",
+        adopted, adopted_deformed, analysed, culled_in_room, enclosures_changed);
 }
 
 // What the demo does every frame: builtin:default's gold ball rolls to and fro. Each state is
