@@ -76,7 +76,16 @@ bool SealedEmitters::adopt(const SceneModel& scene) {
     std::vector<bool> deformed(positions.size());
     for (std::size_t m = 0; m < positions.size(); ++m)
         deformed[m] = positions[m] != position_hashes_[m];
-    if (!moved_instances(scene, deformed)) return false;
+    // Where the deformed occluders hold most of the occluder triangles (a skinned figure
+    // alone), little is kept and welding them again alone costs more than a new analysis.
+    std::size_t occluding = 0, reshaped = 0;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        if (!occludes(material_of(scene, i))) continue;
+        const std::size_t mesh = std::size_t(scene.instances[i].mesh);
+        occluding += scene.meshes[mesh].triangle_count();
+        reshaped += deformed[mesh] ? scene.meshes[mesh].triangle_count() : 0;
+    }
+    if (2 * reshaped > occluding || !moved_instances(scene, deformed)) return false;
     position_hashes_ = std::move(positions);
     return true;
 }
