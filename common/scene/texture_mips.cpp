@@ -127,11 +127,11 @@ TextureMips::Source TextureMips::source_of(const Image& image, uint8_t srgb) {
     return {image.width, image.height, hash_bytes_fast(image.rgba.data(), image.rgba.size()), srgb};
 }
 
-void TextureMips::build(const SceneModel& scene, std::size_t image) {
+void TextureMips::build(const SceneModel& scene, std::size_t image, const Source& source) {
     std::vector<Image>& chain = chains_[image];
     chain.clear();
     const Image* level = &scene.images[image];
-    sources_[image] = source_of(*level, srgb_[image]);
+    sources_[image] = source;
     if (level->width <= 0 || level->height <= 0 ||
         level->rgba.size() != std::size_t(level->width) * std::size_t(level->height) * 4)
         return;  // a missing image samples white at every level
@@ -154,7 +154,7 @@ void TextureMips::rebuild(const SceneModel& scene) {
         while (j < built_from.size() && (taken[j] || !(built_from[j] == wanted)))
             ++j;
         if (j == built_from.size()) {
-            build(scene, i);
+            build(scene, i, wanted);
             continue;
         }
         taken[j] = true;
@@ -176,7 +176,7 @@ void TextureMips::update(const SceneModel& scene, const std::vector<uint32_t>& c
         }
     srgb_ = srgb;
     for (std::size_t i = 0; i < stale.size(); ++i)
-        if (stale[i]) build(scene, i);
+        if (stale[i]) build(scene, i, source_of(scene.images[i], srgb_[i]));
 }
 
 const std::vector<Image>& TextureMips::levels(int image) const {

@@ -55,7 +55,8 @@ private:
         bool operator==(const Source&) const = default;
     };
     static Source source_of(const Image& image, uint8_t srgb);
-    void build(const SceneModel& scene, std::size_t image);
+    // Builds `image`'s chain, which `source` describes (its hash computed once by the caller).
+    void build(const SceneModel& scene, std::size_t image, const Source& source);
 
     std::vector<std::vector<Image>> chains_;  // by image index
     std::vector<uint8_t> srgb_;               // the colour use each chain was built for
