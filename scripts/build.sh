@@ -5,6 +5,9 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$1"; shift
 export CCACHE_DIR="${CCACHE_DIR:-$root/.ccache}"
+# The test targets' precompiled headers (tests/support/precompiled.h) are cached only when
+# ccache may ignore their build-time macros and fresh timestamps.
+export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}"
 if [ ! -f "$build/build.ninja" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
 else
