@@ -1,4 +1,4 @@
-// What nearly every test file parses: GoogleTest, the standard library and GLM. Each test
+// What nearly every test file parses: GoogleTest, the standard library, fmt and GLM. Each test
 // target precompiles this once (tests/CMakeLists.txt), where each of its files parsed it
 // before: GoogleTest alone took 2-4 s of a test file's 9 s on the CI's machine. Only third-party
 // and standard headers belong here, so that a test still has to include the project headers it uses
@@ -25,5 +25,6 @@
 #include <thread>
 #include <vector>
 
+#include <fmt/format.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
