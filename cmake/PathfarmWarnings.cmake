@@ -5,7 +5,10 @@ target_compile_options(pathfarm_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Wunused
   -Woverloaded-virtual -Wimplicit-fallthrough
   # GCC 12 reports false positives inside libstdc++'s std::string at -O3 (GCC bug 105651).
-  $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)
+  $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>
+  # In a unity build a source's own classes are no longer in the main file, so GCC takes a
+  # member of a type in its anonymous namespace for a header's type that breaks the ODR.
+  $<$<AND:$<CXX_COMPILER_ID:GNU>,$<BOOL:$<TARGET_PROPERTY:UNITY_BUILD>>>:-Wno-subobject-linkage>)
 if(PATHFARM_WERROR)
   target_compile_options(pathfarm_warnings INTERFACE -Werror)
 endif()
