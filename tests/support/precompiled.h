@@ -1,8 +1,8 @@
-// What nearly every test file parses: GoogleTest, the standard library, fmt and GLM. Each test
-// target precompiles this once (tests/CMakeLists.txt), where each of its files parsed it
-// before: GoogleTest alone took 2-4 s of a test file's 9 s on the CI's machine. Only third-party
-// and standard headers belong here, so that a test still has to include the project headers it uses
-// (the layering check reads those includes).
+// What nearly every test file parses: GoogleTest, the standard library, fmt and GLM. It is
+// precompiled once and every test target reuses it (tests/CMakeLists.txt), where each test file
+// parsed it before: GoogleTest alone took 2-4 s of a test file's 9 s on the CI's machine. Only
+// third-party and standard headers belong here, so that a test still has to include the
+// project headers it uses (the layering check reads those includes).
 #pragma once
 
 #include <gtest/gtest.h>
