@@ -8,6 +8,10 @@
 
 namespace pathfarm {
 
+// The largest float below 1: a sample in [0,1) clamped here stays in [0,1) (pbrt's
+// OneMinusEpsilon).
+inline constexpr float kOneBelow = 0x1.fffffep-1f;
+
 // Moves a surface point p off its surface along the geometric normal n by a few ULPs, scaled
 // with the magnitude of p, so secondary rays neither re-hit their own triangle nor leak through
 // thin geometry. This is Wächter & Binder, "A Fast and Robust Method for Avoiding

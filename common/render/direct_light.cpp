@@ -18,8 +18,6 @@
 namespace pathfarm {
 namespace {
 
-constexpr float kOneBelow = 0x1.fffffep-1f;
-
 float wrap_unit(float x) { return std::min(x - std::floor(x), kOneBelow); }
 
 }  // namespace

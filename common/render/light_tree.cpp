@@ -10,10 +10,10 @@
 #include <immintrin.h>
 #endif
 
+#include "common/math/float_util.h"
+
 namespace pathfarm {
 namespace {
-
-constexpr float kOneBelow = 0x1.fffffep-1f;
 
 bool distant(const float center[3], float radius2, float cos_theta_o, const Vec3& p) {
     const Vec3 d(p.x - center[0], p.y - center[1], p.z - center[2]);
