@@ -13,7 +13,7 @@
 #include "tests/support/render_helpers.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::mixed_farm_test {
 namespace {
 
 using test::Farm;
@@ -151,4 +151,4 @@ TEST(OpenClCli, NoPlatformIsAOneLineRefusal) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::mixed_farm_test

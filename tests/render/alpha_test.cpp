@@ -14,7 +14,7 @@
 #include "tests/support/render_helpers.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::alpha_test {
 namespace {
 
 constexpr double kAlpha = 1e-3;
@@ -282,4 +282,4 @@ INSTANTIATE_TEST_SUITE_P(Backends, Alpha, ::testing::ValuesIn(test::built_backen
                          test::BackendTestName());
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::alpha_test

@@ -18,7 +18,7 @@
 #include "tests/support/test_env.h"
 #include "tracer-node/embree/embree_scene.h"
 
-namespace pathfarm {
+namespace pathfarm::coherent_rays_test {
 namespace {
 
 constexpr int kWidth = Intersector::kCoherentWidth;
@@ -145,4 +145,4 @@ TEST(CoherentRays, PacketsAnswerAsSingleRaysInSponza) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::coherent_rays_test

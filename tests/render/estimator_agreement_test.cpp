@@ -9,7 +9,7 @@
 #include "common/scene/load/builtin_scenes.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm {
+namespace pathfarm::estimator_agreement_test {
 namespace {
 
 constexpr double kAlpha = 0.01;
@@ -86,4 +86,4 @@ TEST(EstimatorAgreement, DetectsASmallBias) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::estimator_agreement_test

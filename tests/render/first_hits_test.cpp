@@ -11,7 +11,7 @@
 #include "common/scene/load/builtin_scenes.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm {
+namespace pathfarm::first_hits_test {
 namespace {
 
 using tracer::BackendKind;
@@ -196,4 +196,4 @@ TEST(FirstHitsAcrossBackends, OpenClAgreesWithEmbree) {
 #endif
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::first_hits_test

@@ -16,7 +16,7 @@
 #include "tests/support/render_helpers.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::incremental_update_test {
 namespace {
 
 using tracer::BackendKind;
@@ -165,4 +165,4 @@ INSTANTIATE_TEST_SUITE_P(Backends, IncrementalUpdate, ::testing::ValuesIn(test::
                          test::BackendTestName());
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::incremental_update_test

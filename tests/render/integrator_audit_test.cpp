@@ -10,7 +10,7 @@
 #include "common/scene/mesh.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm {
+namespace pathfarm::integrator_audit_test {
 namespace {
 
 constexpr double kAlpha = 1e-3;
@@ -201,4 +201,4 @@ INSTANTIATE_TEST_SUITE_P(Backends, IntegratorAudit, ::testing::ValuesIn(test::bu
                          test::BackendTestName());
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::integrator_audit_test

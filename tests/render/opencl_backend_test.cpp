@@ -12,7 +12,7 @@
 #include "tracer-node/opencl/device_scene.h"
 #include "tracer-node/opencl/opencl_backend.h"
 
-namespace pathfarm {
+namespace pathfarm::opencl_backend_test {
 namespace {
 
 using tracer::BackendKind;
@@ -261,4 +261,4 @@ TEST(OpenClBackend, OutOfRangeDeviceIsAOneLineError) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::opencl_backend_test

@@ -16,7 +16,7 @@
 #include "tests/support/random_lighting.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm {
+namespace pathfarm::random_estimator_test {
 namespace {
 
 constexpr int kCases = 56;
@@ -145,4 +145,4 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::random_estimator_test

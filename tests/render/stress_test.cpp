@@ -21,7 +21,7 @@
 #include "tests/support/render_helpers.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::stress_test {
 namespace {
 
 // The scene with every instance and the camera moved by `m` (a similarity transform).
@@ -280,4 +280,4 @@ TEST(Fuzz, RandomScenesRenderFiniteBoundedImages) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::stress_test

@@ -11,7 +11,7 @@
 
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm {
+namespace pathfarm::texture_lod_test {
 namespace {
 
 constexpr double kAlpha = 1e-3;
@@ -107,4 +107,4 @@ INSTANTIATE_TEST_SUITE_P(Backends, TextureLod, ::testing::ValuesIn(test::built_b
                          test::BackendTestName());
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::texture_lod_test

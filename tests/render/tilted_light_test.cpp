@@ -12,7 +12,7 @@
 #include "tests/support/render_helpers.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::tilted_light_test {
 namespace {
 
 constexpr double kAlpha = 0.01;
@@ -101,4 +101,4 @@ INSTANTIATE_TEST_SUITE_P(Repro, TiltedLight, ::testing::ValuesIn(cases()),
                          });
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::tilted_light_test

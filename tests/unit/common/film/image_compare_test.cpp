@@ -8,7 +8,7 @@
 #include "common/film/image_compare.h"
 #include "common/film/tonemap.h"
 
-namespace pathfarm {
+namespace pathfarm::image_compare_test {
 namespace {
 
 FloatImage random_image(int w, int h, std::mt19937& rng) {
@@ -102,4 +102,4 @@ TEST(Ssim8, MatchesSsimOfTheSameFrames) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::image_compare_test

@@ -8,7 +8,7 @@
 #include "common/film/image_compare.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::image_io_test {
 namespace {
 
 FloatImage gradient() {
@@ -65,4 +65,4 @@ TEST(ImageCompare, RmseAndRelativeMse) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::image_io_test

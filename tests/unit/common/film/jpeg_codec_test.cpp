@@ -3,7 +3,7 @@
 
 #include "common/film/jpeg_codec.h"
 
-namespace pathfarm {
+namespace pathfarm::jpeg_codec_test {
 namespace {
 
 std::vector<uint8_t> gradient(int w, int h) {
@@ -45,4 +45,4 @@ TEST(JpegCodec, BadInputIsAnError) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::jpeg_codec_test

@@ -12,7 +12,7 @@
 
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::oiio_module_test {
 namespace {
 
 TEST(OiioModule, LoadsWithThisBuildsInterface) {
@@ -44,4 +44,4 @@ TEST(OiioModule, WhatIsNotAModuleIsAClearError) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::oiio_module_test

@@ -13,7 +13,7 @@
 
 #include "common/render/light_bounds.h"
 
-namespace pathfarm {
+namespace pathfarm::light_estimate_test {
 namespace {
 
 Vec3 random_direction(std::mt19937& rng) {
@@ -81,4 +81,4 @@ TEST(LightEstimate, RandomlyFacingEmittersAreEstimatedWithinAFewPercentOfTheirLi
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::light_estimate_test

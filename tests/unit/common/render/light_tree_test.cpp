@@ -12,7 +12,7 @@
 
 #include "common/render/light_tree.h"
 
-namespace pathfarm {
+namespace pathfarm::light_tree_test {
 namespace {
 
 struct Emitter {
@@ -360,4 +360,4 @@ TEST(LightTree, UnionOfConesHoldsBoth) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::light_tree_test

@@ -11,7 +11,7 @@
 #include "common/scene/load/file_read.h"
 #include "tests/support/test_env.h"
 
-namespace pathfarm {
+namespace pathfarm::loader_test {
 namespace {
 
 void write_file(const std::string& path, const std::string& data) {
@@ -268,4 +268,4 @@ TEST(FileRead, GzipAndPlainReadTheSame) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::loader_test

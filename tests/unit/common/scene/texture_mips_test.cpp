@@ -13,7 +13,7 @@
 #include "common/render/shading_scene.h"
 #include "common/scene/scene_model.h"
 
-namespace pathfarm {
+namespace pathfarm::texture_mips_test {
 namespace {
 
 Image random_image(std::mt19937& rng, int w, int h) {
@@ -244,9 +244,9 @@ TEST(TextureMips, UpdateRebuildsChangedImagesAndColourUse) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::texture_mips_test
 
-namespace pathfarm {
+namespace pathfarm::texture_mips_test {
 namespace {
 
 // A rebuild after a structural change takes over the chains of images it has seen (same size,
@@ -287,4 +287,4 @@ TEST(TextureMips, RebuildKeepsTheChainsOfUnchangedImagesOnly) {
 }
 
 }  // namespace
-}  // namespace pathfarm
+}  // namespace pathfarm::texture_mips_test

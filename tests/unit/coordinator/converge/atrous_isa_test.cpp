@@ -12,7 +12,7 @@
 #include "coordinator/converge/atrous.h"
 #include "coordinator/converge/denoiser.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::atrous_isa_test {
 namespace {
 
 struct Scene {
@@ -103,4 +103,4 @@ TEST(AtrousIsa, EverySetTheCpuRunsGivesTheBaselinesImage) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::atrous_isa_test

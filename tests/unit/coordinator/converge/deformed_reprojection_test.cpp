@@ -13,7 +13,7 @@
 #include "coordinator/frame/frame_pipeline.h"
 #include "tests/support/gbuffer_helpers.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::deformed_reprojection_test {
 namespace {
 
 constexpr int kSize = 64;
@@ -151,4 +151,4 @@ TEST(DeformedReprojection, UnknownOrWrongMotionKeepsNoHistory) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::deformed_reprojection_test

@@ -11,7 +11,7 @@
 #include "common/math/transform.h"
 #include "coordinator/converge/denoiser.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::denoiser_edges_test {
 namespace {
 
 constexpr int kW = 64, kH = 48;
@@ -207,4 +207,4 @@ TEST(DenoiserEdges, FiniteDeterministicAndSharpPixelsKept) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::denoiser_edges_test

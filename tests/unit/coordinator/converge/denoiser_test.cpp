@@ -12,7 +12,7 @@
 #include "tests/support/gbuffer_helpers.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::denoiser_test {
 namespace {
 
 constexpr int kW = 48, kH = 48;
@@ -100,4 +100,4 @@ TEST(Denoiser, BeatsConvergingAloneOnAStillView) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::denoiser_test

@@ -13,7 +13,7 @@
 #include "tests/support/gbuffer_helpers.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::denoiser_texture_test {
 namespace {
 
 constexpr int kW = 64, kH = 64;
@@ -77,4 +77,4 @@ TEST(DenoiserTextures, StripesNarrowerThanTwoPixelsDoNotBlowTheLightUp) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::denoiser_texture_test

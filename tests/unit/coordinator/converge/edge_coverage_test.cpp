@@ -14,7 +14,7 @@
 #include "common/math/transform.h"
 #include "coordinator/converge/denoiser.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::edge_coverage_test {
 namespace {
 
 constexpr int kW = 48, kH = 36;
@@ -186,4 +186,4 @@ TEST(EdgeCoverage, AStillViewKeepsConvergingToItsOwnSamples) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::edge_coverage_test

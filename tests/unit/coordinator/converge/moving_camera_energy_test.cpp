@@ -13,7 +13,7 @@
 #include "tests/support/test_env.h"
 #include "tracer-node/backend/render_backend.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::moving_camera_energy_test {
 namespace {
 
 constexpr int kW = 64, kH = 36;
@@ -94,4 +94,4 @@ TEST(MovingCamera, ConvergingAndDenoisingKeepTheBrightnessOfSparseLight) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::moving_camera_energy_test

@@ -6,7 +6,7 @@
 
 #include "coordinator/converge/temporal_accumulator.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::sample_weights_test {
 namespace {
 
 constexpr int kSize = 16;
@@ -48,4 +48,4 @@ TEST(SampleWeights, AFrameCountsAsManyFramesAsItsSamples) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::sample_weights_test

@@ -7,7 +7,7 @@
 
 #include "coordinator/converge/temporal_accumulator.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::sky_edge_test {
 namespace {
 
 constexpr int kSize = 32;
@@ -44,4 +44,4 @@ TEST(SkyEdge, AGoneSilhouetteLeavesNoTrailInTheSky) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::sky_edge_test

@@ -9,7 +9,7 @@
 #include "coordinator/converge/temporal_aa.h"
 #include "coordinator/converge/temporal_accumulator.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::temporal_aa_test {
 namespace {
 
 constexpr int kW = 40, kH = 24;
@@ -123,4 +123,4 @@ TEST(TemporalAntialias, PixelsWithoutMotionAndNewSizesAreLeftAlone) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::temporal_aa_test

@@ -22,7 +22,7 @@
 #include "tests/support/gbuffer_helpers.h"
 #include "tests/support/render_helpers.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::temporal_accumulator_test {
 namespace {
 
 using test::first_hit_gbuffer;
@@ -387,4 +387,4 @@ TEST(TemporalAccumulator, ACutStartsEveryPixelOver) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::temporal_accumulator_test

@@ -7,7 +7,7 @@
 
 #include "coordinator/pacing/extra_samples.h"
 
-namespace pathfarm::coord {
+namespace pathfarm::coord::extra_samples_test {
 namespace {
 
 constexpr int kW = 64, kH = 48;
@@ -127,4 +127,4 @@ TEST(ExtraSamplePlan, NoBudgetNoSamples) {
 }
 
 }  // namespace
-}  // namespace pathfarm::coord
+}  // namespace pathfarm::coord::extra_samples_test
