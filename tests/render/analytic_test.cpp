@@ -3,6 +3,7 @@
 // area-light pdfs together), and a Lambert sphere in an emitting enclosure (rho * E).
 #include <gtest/gtest.h>
 
+#include "common/scene/load/builtin_scenes.h"
 #include "tests/support/render_helpers.h"
 
 namespace pathfarm {
@@ -61,6 +62,21 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, Furnace,
                                                     ? "light"
                                                     : "bsdf");
                          });
+
+TEST(Furnace, TheBuiltinFurnaceIsOneEverywhereThroughTheLightTree) {
+    // builtin:furnace: 5 000 emitting triangles around the ball, so next-event estimation and
+    // the MIS weights of emitter hits go through a light tree of several levels.
+    const Result<SceneModel> scene = make_builtin_scene("furnace");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_EQ(scene->meshes[scene->instances[0].mesh].triangle_count(), 5000u);
+    test::RenderRequest r;
+    r.spp = 32;
+    r.integrator.max_depth = 100;
+    r.integrator.light_selection = LightSelection::tree;
+    const Stats s = stats(test::render(*scene, r), 1.0);
+    EXPECT_NEAR(s.mean, 1.0, 0.01);
+    EXPECT_LT(s.max_dev, 0.3);
+}
 
 TEST(Furnace, TruncatingPathsIsDetected) {
     // With 2 bounces the furnace cannot reach 1: proves the test above can fail.

@@ -13,14 +13,6 @@
 namespace pathfarm::test {
 namespace {
 
-Mesh inward(Mesh m) {
-    for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
-        std::swap(m.indices[i + 1], m.indices[i + 2]);
-    for (Vec3& n : m.normals)
-        n = -n;
-    return m;
-}
-
 Camera inside_camera() {
     Camera cam;
     cam.yfov_radians = glm::radians(50.0f);
@@ -149,7 +141,7 @@ SceneModel make_furnace(float emission, float albedo) {
     Material m = make_lambert("glow", Rgb(albedo));
     m.emissive_factor = Rgb(emission);
     const int mat = b.add_material(m);
-    b.add_instance(b.add_mesh(inward(make_sphere(4.0f, 24, 48, mat))), Mat4(1.0f));
+    b.add_instance(b.add_mesh(turned_inside_out(make_sphere(4.0f, 24, 48, mat))), Mat4(1.0f));
     b.add_instance(b.add_mesh(make_sphere(1.0f, 24, 48, mat)), Mat4(1.0f));
     b.add_camera(inside_camera());
     b.environment().sky = SkyMode::off;
@@ -160,7 +152,7 @@ SceneModel make_lit_sphere(float emission, float rho) {
     SceneBuilder b("lit-sphere");
     const int glow = b.add_material(make_emitter("enclosure", Rgb(emission)));
     const int diffuse = b.add_material(make_lambert("ball", Rgb(rho)));
-    b.add_instance(b.add_mesh(inward(make_sphere(4.0f, 24, 48, glow))), Mat4(1.0f));
+    b.add_instance(b.add_mesh(turned_inside_out(make_sphere(4.0f, 24, 48, glow))), Mat4(1.0f));
     b.add_instance(b.add_mesh(make_sphere(1.0f, 24, 48, diffuse)), Mat4(1.0f));
     b.add_camera(inside_camera());
     b.environment().sky = SkyMode::off;

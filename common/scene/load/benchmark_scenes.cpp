@@ -5,7 +5,9 @@
 // camera's room lit by one lamp, next to a closed room holding those 1024 panels: emitters
 // that cannot contribute) and builtin:light-field (9 892 small emitters of six colours facing
 // every way over a room's ceiling and upper walls, 2 000 of them on a turning ring: many-light
-// sampling, after Brigade's Reflect).
+// sampling, after Brigade's Reflect) and builtin:furnace (a ball inside a sphere of 5 000
+// emitting triangles, every surface emitting 0.5 and reflecting half: every pixel is 1 without
+// a depth limit; the per-ray cost of a scene where every ray ends on an emitter).
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/base/hash.h"
@@ -108,6 +110,23 @@ SceneModel make_glass_scene() {
     b.add_instance(b.add_mesh(make_sphere(0.3f, 32, 64, gold_mat)),
                    glm::translate(Mat4(1.0f), Vec3(0.1f, 0.3f, -1.3f)), -1, "gold-sphere");
     b.add_camera(room_camera());
+    b.environment().sky = SkyMode::off;
+    return b.finish();
+}
+
+SceneModel make_furnace_scene() {
+    SceneBuilder b("builtin:furnace");
+    Material glow = make_lambert("glow", Rgb(0.5f));
+    glow.emissive_factor = Rgb(0.5f);
+    const int mat = b.add_material(glow);
+    // 51 rings of 50 segments: 5 000 triangles (the poles' rings have one per segment).
+    b.add_instance(b.add_mesh(turned_inside_out(make_sphere(4.0f, 51, 50, mat))), Mat4(1.0f), -1,
+                   "enclosure");
+    b.add_instance(b.add_mesh(make_sphere(1.0f, 24, 48, mat)), Mat4(1.0f), -1, "ball");
+    Camera cam;
+    cam.yfov_radians = glm::radians(50.0f);
+    cam.camera_to_world = look_at_camera({0.0f, 0.0f, 2.5f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0});
+    b.add_camera(cam);
     b.environment().sky = SkyMode::off;
     return b.finish();
 }

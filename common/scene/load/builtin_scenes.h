@@ -20,6 +20,7 @@ SceneModel make_glass_scene();
 SceneModel make_many_lights_scene();
 SceneModel make_light_field_scene();
 SceneModel make_sealed_lights_scene();
+SceneModel make_furnace_scene();
 // The default scene's door node transform, swung open by `open_radians` about its hinge.
 Mat4 default_scene_door_transform(float open_radians);
 

@@ -166,7 +166,8 @@ SceneModel make_default_scene() {
 }
 
 std::vector<std::string> builtin_scene_names() {
-    return {"cornell", "default", "glass", "many-lights", "light-field", "sealed-lights"};
+    return {"cornell",     "default",       "glass",  "many-lights",
+            "light-field", "sealed-lights", "furnace"};
 }
 
 Result<SceneModel> make_builtin_scene(const std::string& name) {
@@ -176,9 +177,10 @@ Result<SceneModel> make_builtin_scene(const std::string& name) {
     if (name == "many-lights") return make_many_lights_scene();
     if (name == "light-field") return make_light_field_scene();
     if (name == "sealed-lights") return make_sealed_lights_scene();
+    if (name == "furnace") return make_furnace_scene();
     return make_error(ErrorCode::not_found,
                       "builtin:{}: no such built-in scene (known: cornell, default, glass, "
-                      "many-lights, light-field, sealed-lights)",
+                      "many-lights, light-field, sealed-lights, furnace)",
                       name);
 }
 

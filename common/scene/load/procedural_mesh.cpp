@@ -1,6 +1,8 @@
 // Quads, cubes, spheres and cylinders.
 #include "common/scene/load/procedural_mesh.h"
 
+#include <utility>
+
 namespace pathfarm {
 
 Mesh make_quad(const Vec3& c, const Vec3& u, const Vec3& v, int material) {
@@ -65,6 +67,14 @@ Mesh make_sphere(float radius, int rings, int segments, int material) {
             if (r != 0) m.indices.insert(m.indices.end(), {a, c, b});
             if (r != rings - 1) m.indices.insert(m.indices.end(), {b, c, d});
         }
+    return m;
+}
+
+Mesh turned_inside_out(Mesh m) {
+    for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
+        std::swap(m.indices[i + 1], m.indices[i + 2]);
+    for (Vec3& n : m.normals)
+        n = -n;
     return m;
 }
 

@@ -15,6 +15,10 @@ Mesh make_sphere(float radius, int rings, int segments, int material);
 // An open-ended cylinder of radius r along +Y from y = 0 to y = height, capped, smooth sides.
 Mesh make_cylinder(float radius, float height, int segments, int material);
 
+// The same mesh seen from inside: winding and normals reversed (an enclosure's front faces
+// point inward).
+Mesh turned_inside_out(Mesh m);
+
 // Appends b's triangles to a (both must have the same attribute set).
 void append_mesh(Mesh& a, const Mesh& b);
 
