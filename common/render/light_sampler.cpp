@@ -58,13 +58,14 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
     double total = 0.0;
     for (double pw : power)
         total += pw;
-    cdf_.resize(power.size());
+    std::vector<float> cdf(power.size());
     double acc = 0.0;
     for (std::size_t k = 0; k < power.size(); ++k) {
         acc += power[k];
-        cdf_[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(power.size());
+        cdf[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(power.size());
     }
-    if (!cdf_.empty()) cdf_.back() = 1.0f;
+    if (!cdf.empty()) cdf.back() = 1.0f;
+    cdf_ = GuidedCdf(std::move(cdf));
     if (selection == LightSelection::tree) {
         LightTopologyCache local;
         make_tree(bounds, topology ? *topology : local);
@@ -96,7 +97,8 @@ void LightSampler::make_tree(const std::vector<LightBounds>& bounds, LightTopolo
 
 float LightSampler::selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const {
     if (selection_ == LightSelection::tree) return tree_.pmf(from, normal, uint32_t(k));
-    return cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f);
+    const std::vector<float>& cdf = cdf_.values();
+    return cdf[k] - (k > 0 ? cdf[k - 1] : 0.0f);
 }
 
 std::optional<LightSample> LightSampler::sample(const Vec3& from, const Vec3& normal,
@@ -125,8 +127,7 @@ std::optional<LightSample> LightSampler::sample(const Vec3& from, const Vec3& no
         k = choice->emitter;
         pmf = choice->pmf;
     } else {
-        const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), us);
-        k = std::min<std::size_t>(it - cdf_.begin(), cdf_.size() - 1);
+        k = std::min(cdf_.upper_bound(us), cdf_.size() - 1);
         pmf = selection_pmf(k, from, normal);
     }
     const EmissiveTriangle& tri = triangles_[k];

@@ -12,6 +12,7 @@
 #include "common/render/light_tree.h"
 #include "common/render/shading_scene.h"
 #include "common/render/sun_sky.h"
+#include "common/sampling/guided_cdf.h"
 
 namespace pathfarm {
 
@@ -71,7 +72,7 @@ public:
         float area;
     };
     const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
-    const std::vector<float>& cdf() const { return cdf_; }  // normalised cumulative power
+    const std::vector<float>& cdf() const { return cdf_.values(); }  // normalised cumulative power
     LightSelection selection() const { return selection_; }
     const LightTree& tree() const { return tree_; }  // empty unless selection() is tree
     float environment_probability() const { return p_environment_; }
@@ -90,7 +91,7 @@ private:
     LightSelection selection_;
     LightTree tree_;
     std::vector<EmissiveTriangle> triangles_;
-    std::vector<float> cdf_;                // cumulative power, normalised to 1
+    GuidedCdf cdf_;                         // cumulative power, normalised to 1
     std::vector<int64_t> instance_offset_;  // first light of each instance, or -1
     std::unique_ptr<SunSky> sun_sky_;
     float p_environment_ = 0.0f;
