@@ -20,6 +20,7 @@ public:
     // `cdf` must not decrease; one bucket per entry.
     explicit GuidedCdf(std::vector<float> cdf) : cdf_(std::move(cdf)) {
         const std::size_t m = cdf_.size();
+        if (m == 0) return;  // upper_bound() answers 0 without a guide
         guide_.resize(m + 1);
         std::size_t i = 0;
         for (std::size_t j = 0; j <= m; ++j) {

@@ -80,9 +80,10 @@ TEST(GuidedCdf, AnswersAsTheWholeBinarySearchForRandomDistributionsAndEdges) {
 }
 
 TEST(GuidedCdf, AnEmptyDistributionHasNothingToFind) {
-    const GuidedCdf none;
-    EXPECT_TRUE(none.empty());
-    EXPECT_EQ(none.upper_bound(0.5f), 0u);
+    for (const GuidedCdf& none : {GuidedCdf(), GuidedCdf(std::vector<float>{})}) {
+        EXPECT_TRUE(none.empty());
+        EXPECT_EQ(none.upper_bound(0.5f), 0u);
+    }
 }
 
 }  // namespace
