@@ -55,17 +55,7 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
                                                        float(power.back()), mat.double_sided));
         }
     }
-    double total = 0.0;
-    for (double pw : power)
-        total += pw;
-    std::vector<float> cdf(power.size());
-    double acc = 0.0;
-    for (std::size_t k = 0; k < power.size(); ++k) {
-        acc += power[k];
-        cdf[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(power.size());
-    }
-    if (!cdf.empty()) cdf.back() = 1.0f;
-    cdf_ = GuidedCdf(std::move(cdf));
+    cdf_ = GuidedCdf::from_weights(power);
     if (selection == LightSelection::tree) {
         LightTopologyCache local;
         make_tree(bounds, topology ? *topology : local);

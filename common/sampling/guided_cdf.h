@@ -31,6 +31,22 @@ public:
         }
     }
 
+    // The normalised cumulative sum of non-negative weights (uniform when they sum to zero),
+    // its last entry exactly 1.
+    static GuidedCdf from_weights(const std::vector<double>& weights) {
+        double total = 0.0;
+        for (double w : weights)
+            total += w;
+        std::vector<float> cdf(weights.size());
+        double acc = 0.0;
+        for (std::size_t k = 0; k < weights.size(); ++k) {
+            acc += weights[k];
+            cdf[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(weights.size());
+        }
+        if (!cdf.empty()) cdf.back() = 1.0f;
+        return GuidedCdf(std::move(cdf));
+    }
+
     const std::vector<float>& values() const { return cdf_; }
     std::size_t size() const { return cdf_.size(); }
     bool empty() const { return cdf_.empty(); }
@@ -38,13 +54,13 @@ public:
     // The index of the first entry greater than u (size() if none), as std::upper_bound.
     std::size_t upper_bound(float u) const {
         const std::size_t m = cdf_.size();
-        if (m == 0) return 0;
         const float scaled = u * float(m);
         if (scaled >= 0.0f && scaled < float(m)) {
             const auto j = std::size_t(scaled);
             const std::size_t lo = guide_[j], hi = guide_[j + 1];
             const std::size_t k = std::size_t(
                 std::upper_bound(cdf_.begin() + lo, cdf_.begin() + hi, u) - cdf_.begin());
+            // (An empty distribution never gets here: it goes to the whole search, answering 0.)
             // upper_bound's answer is k exactly when everything before k is at most u and the
             // entry at k (if any) is above it.
             if ((k == 0 || !(cdf_[k - 1] > u)) && (k == m || cdf_[k] > u)) return k;

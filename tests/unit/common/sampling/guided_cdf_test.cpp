@@ -14,7 +14,7 @@
 namespace pathfarm {
 namespace {
 
-// A normalised cumulative distribution built as LightSampler builds its own.
+// A normalised cumulative distribution of random powers, as LightSampler builds its own.
 std::vector<float> random_cdf(Pcg32& rng, std::size_t n) {
     std::vector<double> power(n);
     for (double& p : power) {
@@ -27,17 +27,7 @@ std::vector<float> random_cdf(Pcg32& rng, std::size_t n) {
             p = std::pow(10.0, 12.0 * double(rng.next_float()) - 6.0);
         }
     }
-    double total = 0.0;
-    for (double p : power)
-        total += p;
-    std::vector<float> cdf(n);
-    double acc = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-        acc += power[k];
-        cdf[k] = total > 0.0 ? float(acc / total) : float(k + 1) / float(n);
-    }
-    cdf.back() = 1.0f;
-    return cdf;
+    return GuidedCdf::from_weights(power).values();
 }
 
 std::size_t full_search(const std::vector<float>& cdf, float u) {
