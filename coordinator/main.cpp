@@ -86,7 +86,7 @@ struct Command {
     int frames = -1;  // unset: the mode's default
     CLI::Option* frames_option = nullptr;
     bool offline_mode = false, no_converge = false;
-    std::string denoise = "on", light_sampler = "tree";
+    std::string denoise = "on", light_sampler = "auto";
     pathfarm::coord::OfflineOptions o;
     pathfarm::coord::FarmOptions f;
     CLI::Option* tracer_port = nullptr;
@@ -214,9 +214,10 @@ void add_realtime_options(CLI::App& app, Command& c) {  // docs/realtime.md
         ->check(CLI::Range(0, 1024));
     app.add_option("--light-sampler", c.light_sampler,
                    "Emitter choice for next-event estimation on the tracers: tree (by importance "
-                   "to the shading point) or power")
+                   "to the shading point), power, or auto (the tree where the scene's emitters "
+                   "differ in what they give its surfaces, else power)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"tree", "power"}));
+        ->check(CLI::IsMember({"tree", "power", "auto"}));
     app.add_option("--min-rr-scale", f.min_rr_scale,
                    "Workload scaling's floor on the Russian-roulette survival scale")
         ->capture_default_str();
@@ -282,7 +283,10 @@ int run(Command& c) {
         c.f.stats_csv = c.stats_csv;
         c.f.converge = !c.no_converge;
         c.f.denoise = c.denoise == "on";
-        c.f.light_tree = c.light_sampler == "tree";
+        c.f.light_sampling = c.light_sampler == "tree" ? pathfarm::wire::LightSampling::tree
+                             : c.light_sampler == "power"
+                                 ? pathfarm::wire::LightSampling::power
+                                 : pathfarm::wire::LightSampling::automatic;
         return farm(std::move(*scene), c, c.f);
     }
     c.o.frames = c.frames < 0 ? 60 : c.frames;

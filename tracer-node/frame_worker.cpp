@@ -97,7 +97,10 @@ Status FrameWorker::render(const wire::Assignment& a) {
     }
     job.integrator.max_depth = int(a.max_depth);
     job.integrator.rr_scale = std::min(1.0f, a.rr_scale);
-    job.integrator.light_selection = a.light_tree ? LightSelection::tree : LightSelection::power;
+    job.integrator.light_selection =
+        a.light_sampling == wire::LightSampling::tree        ? LightSelection::tree
+        : a.light_sampling == wire::LightSampling::automatic ? LightSelection::automatic
+                                                             : LightSelection::power;
     const int tile_rows = kRowsPerTile;
     for (int y = int(a.y0); y < int(a.y1); y += tile_rows) {
         if (control_.newest_commit() > a.commit) return {};  // the frame closed: drop stale rows

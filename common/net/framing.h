@@ -20,7 +20,7 @@ namespace pathfarm::net {
 //    that ignored it would render other bits).
 // 8: assignments may give some pixels more samples than spp (FrameAssignment.extra_samples_zstd;
 //    a tracer that ignored it would render other bits).
-inline constexpr uint32_t kProtocolVersion = 8;
+inline constexpr uint32_t kProtocolVersion = 9;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // What a coordinator accepts from tracers (tiles of a whole frame at 4K stay far below) and
 // from clients (input only); what peers accept from the coordinator (commit chunks, frames).

@@ -25,9 +25,16 @@ Rgb mean_emission_texel(const Image* image) {
 
 }  // namespace
 
+std::optional<LightSelection> parse_light_selection(std::string_view name) {
+    for (LightSelection s :
+         {LightSelection::power, LightSelection::tree, LightSelection::automatic})
+        if (name == light_selection_name(s)) return s;
+    return std::nullopt;
+}
+
 LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>& excluded,
                            LightSelection selection, LightTopologyCache* topology)
-    : shading_(shading), selection_(selection) {
+    : shading_(shading), requested_(selection), selection_(selection) {
     const SceneModel& scene = shading.model();
     instance_offset_.assign(scene.instances.size(), -1);
     std::vector<double> power;
@@ -50,15 +57,20 @@ LightSampler::LightSampler(const ShadingScene& shading, const std::vector<bool>&
             triangles_.push_back(
                 {i, t, mesh.material, p[0], p[1] - p[0], p[2] - p[0], probe.ng, area});
             power.push_back(double(luminance(mean)) * area * sides);
-            if (selection == LightSelection::tree)
+            if (selection != LightSelection::power)
                 bounds.push_back(triangle_light_bounds(p[0], p[1], p[2], probe.ng,
                                                        float(power.back()), mat.double_sided));
         }
     }
     cdf_ = GuidedCdf::from_weights(power);
-    if (selection == LightSelection::tree) {
+    if (selection != LightSelection::power) {
         LightTopologyCache local;
         make_tree(bounds, topology ? *topology : local);
+    }
+    if (selection == LightSelection::automatic) {
+        choice_ = measure_choice();
+        selection_ = choice_.selection;
+        if (selection_ == LightSelection::power) tree_ = LightTree();
     }
     if (uses_sun_sky(scene)) {
         sun_sky_ = std::make_unique<SunSky>(scene.environment);
@@ -87,8 +99,7 @@ void LightSampler::make_tree(const std::vector<LightBounds>& bounds, LightTopolo
 
 float LightSampler::selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const {
     if (selection_ == LightSelection::tree) return tree_.pmf(from, normal, uint32_t(k));
-    const std::vector<float>& cdf = cdf_.values();
-    return cdf[k] - (k > 0 ? cdf[k - 1] : 0.0f);
+    return power_pmf(k);
 }
 
 std::optional<LightSample> LightSampler::sample(const Vec3& from, const Vec3& normal,

@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "common/render/light_topology.h"
@@ -27,11 +28,37 @@ struct LightSample {
     bool radiance_deferred = false;
 };
 
-// How an emissive triangle is chosen (--light-sampler tree|power).
-enum class LightSelection : uint8_t { power, tree };
+// How an emissive triangle is chosen (--light-sampler tree|power|auto). automatic is asked
+// for, never used: a LightSampler resolves it to tree or power for its scene state
+// (light_sampler_choice.cpp).
+enum class LightSelection : uint8_t { power, tree, automatic };
 inline const char* light_selection_name(LightSelection s) {
-    return s == LightSelection::tree ? "tree" : "power";
+    return s == LightSelection::tree ? "tree" : s == LightSelection::power ? "power" : "auto";
 }
+std::optional<LightSelection> parse_light_selection(std::string_view name);
+
+// What --light-sampler auto read off a scene state: at receivers spread over the scene's
+// triangles, the variance of choosing an emitter by the tree over that by power, for a
+// one-sample estimate of the receiver's unshadowed direct light (the median over receivers).
+struct LightChoice {
+    LightSelection selection = LightSelection::power;
+    double variance_ratio = 1.0;
+    int receivers = 0;  // those some emitter lights
+    // The tree costs up to 1.7x power's time per ray (builtin:furnace, docs/performance.md):
+    // below 1 / 1.7 of power's variance it is worth that even where the whole error is the
+    // light's choice.
+    static constexpr double kTreeBelow = 0.6;
+    // Tree choices per receiver behind each receiver's reading.
+    static constexpr int kChoicesPerReceiver = 32;
+};
+
+// Where LightChoice reads a scene: points uniform over its triangles by count (not by area:
+// detail is where the triangles are) from a fixed seed, each looked at from both sides, just off
+// the surface.
+struct LightChoiceReceiver {
+    Vec3 p, n;
+};
+std::vector<LightChoiceReceiver> light_choice_receivers(const ShadingScene& shading);
 
 class LightSampler {
 public:
@@ -73,7 +100,11 @@ public:
     };
     const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
     const std::vector<float>& cdf() const { return cdf_.values(); }  // normalised cumulative power
+    // The selection in use (tree or power), and the one asked for (automatic too).
     LightSelection selection() const { return selection_; }
+    LightSelection requested() const { return requested_; }
+    // How automatic chose (the default LightChoice when tree or power was asked for).
+    const LightChoice& choice() const { return choice_; }
     const LightTree& tree() const { return tree_; }  // empty unless selection() is tree
     float environment_probability() const { return p_environment_; }
     const SunSky* sun_sky() const { return sun_sky_.get(); }
@@ -84,11 +115,17 @@ private:
     // The selection probability of emitter k for a receiver at (from, normal).
     float selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const;
 
+    float power_pmf(std::size_t k) const;
+    double unshadowed_light(std::size_t k, const Vec3& p, const Vec3& n) const;
+    // Tree or power for this state, from tree_ (light_sampler_choice.cpp).
+    LightChoice measure_choice() const;
+
     // The light tree over `bounds`: each emissive mesh's clusters, a top level over them.
     void make_tree(const std::vector<LightBounds>& bounds, LightTopologyCache& topology);
 
     const ShadingScene& shading_;
-    LightSelection selection_;
+    LightSelection requested_, selection_;
+    LightChoice choice_;
     LightTree tree_;
     std::vector<EmissiveTriangle> triangles_;
     GuidedCdf cdf_;                         // cumulative power, normalised to 1

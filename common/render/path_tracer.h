@@ -31,9 +31,10 @@ struct IntegratorSettings {
     // Do not sample emitters a closed opaque surface separates from the camera
     // (SealedEmitters); false samples every emitter, for measuring what culling saves.
     bool cull_sealed_lights = true;
-    // How next-event estimation chooses an emissive triangle (docs/rendering.md, "Lights"): the
-    // tree by default, measured the better (bench/light_tree_bench.py).
-    LightSelection light_selection = LightSelection::tree;
+    // How next-event estimation chooses an emissive triangle (docs/rendering.md, "Lights"): by
+    // default the tree or power, whichever the scene state needs (LightSampler resolves
+    // automatic; measured: bench/scene_ray_cost.py, bench/light_tree_bench.py).
+    LightSelection light_selection = LightSelection::automatic;
     // Resampled light selection (RIS, direct_light.cpp): next-event estimation draws this many
     // candidates and traces a shadow ray to one, chosen by its unshadowed contribution; 1: off.
     int light_candidates = 1;

@@ -56,8 +56,21 @@ Result<Assignment> to_assignment(const pb::FrameAssignment& w) {
                  w.max_depth(),
                  w.rr_scale(),
                  w.first_hits(),
-                 w.light_tree(),
+                 LightSampling::power,
                  w.extra_samples_zstd()};
+    switch (w.light_sampling()) {
+        case pb::LIGHT_SAMPLING_POWER:
+            break;
+        case pb::LIGHT_SAMPLING_TREE:
+            a.light_sampling = LightSampling::tree;
+            break;
+        case pb::LIGHT_SAMPLING_AUTO:
+            a.light_sampling = LightSampling::automatic;
+            break;
+        default:
+            return make_error(ErrorCode::parse_error, "assignment: unknown light sampling {}",
+                              int(w.light_sampling()));
+    }
     if (a.rr_scale == 0.0f) a.rr_scale = 1.0f;  // absent: full survival
     if (a.width == 0 || a.height == 0 || a.width > kMaxImageSide || a.height > kMaxImageSide ||
         a.y0 >= a.y1 || a.y1 > a.height)
@@ -87,7 +100,10 @@ std::string encode_assignment(const Assignment& a) {
     w->set_max_depth(a.max_depth);
     if (a.rr_scale < 1.0f) w->set_rr_scale(a.rr_scale);
     w->set_first_hits(a.first_hits);
-    w->set_light_tree(a.light_tree);
+    w->set_light_sampling(a.light_sampling == LightSampling::tree ? pb::LIGHT_SAMPLING_TREE
+                          : a.light_sampling == LightSampling::automatic
+                              ? pb::LIGHT_SAMPLING_AUTO
+                              : pb::LIGHT_SAMPLING_POWER);
     w->set_extra_samples_zstd(a.extra_samples_zstd);
     return e.SerializeAsString();
 }

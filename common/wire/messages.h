@@ -16,6 +16,7 @@
 #include "common/commit/commit_codec.h"
 #include "common/math/types.h"
 #include "common/wire/frame_codec.h"
+#include "common/wire/light_sampling.h"
 
 namespace pathfarm::wire {
 
@@ -27,7 +28,7 @@ struct Assignment {
     uint32_t spp = 1, seed = 0, max_depth = 8;
     float rr_scale = 1.0f;    // Russian-roulette survival scale in (0, 1] (workload scaling)
     bool first_hits = false;  // send each pixel's first hit with the tiles
-    bool light_tree = false;  // next-event estimation through the light tree, not by power
+    LightSampling light_sampling = LightSampling::power;
     // Samples beyond spp per pixel of the whole frame (FrameSpec::extra_samples), zstd-
     // compressed as common/film/extra_samples_codec.h writes them; empty for none.
     std::string extra_samples_zstd{};

@@ -189,7 +189,7 @@ FrameWork Farm::next_work(uint64_t frame) {
     w.seed = o_.seed;
     w.max_depth = o_.max_depth;
     w.first_hits = o_.converge || o_.denoise;
-    w.light_tree = o_.light_tree;
+    w.light_sampling = o_.light_sampling;
     double extra = o_.extra_samples;
     if (scaler_) {
         const QualityLevel& l = scaler_->level();

@@ -10,6 +10,7 @@
 
 #include "common/base/result.h"
 #include "common/scene/scene_model.h"
+#include "common/wire/light_sampling.h"
 
 namespace pathfarm::coord {
 
@@ -51,7 +52,8 @@ struct FarmOptions {
     // more time and the denoiser less (docs/denoise.md, "Page faults and threads"). The
     // frames do not depend on it.
     int display_threads = 0;
-    bool light_tree = true;  // --light-sampler tree|power (IntegratorSettings::light_selection)
+    // --light-sampler tree|power|auto (IntegratorSettings::light_selection on the tracers)
+    wire::LightSampling light_sampling = wire::LightSampling::automatic;
     bool fixed_spp = false;
     // With fixed_spp: samples beyond spp per pixel on average, in [0, 1], placed where history
     // is short (coordinator/pacing/extra_samples.h). Workload scaling chooses its own.

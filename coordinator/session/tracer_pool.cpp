@@ -122,7 +122,7 @@ void TracerPool::assign(uint64_t id, Tracer& t, const RowRange& r) {
                        uint32_t(work_.max_depth),
                        work_.rr_scale,
                        work_.first_hits,
-                       work_.light_tree,
+                       work_.light_sampling,
                        work_.extra_samples_zstd};
     t.session->send(wire::encode_assignment(a));
     t.assigned.push_back(r);

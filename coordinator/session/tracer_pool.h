@@ -19,6 +19,7 @@
 
 #include "common/film/film.h"
 #include "common/net/session.h"
+#include "common/wire/light_sampling.h"
 #include "coordinator/balance/balancer.h"
 #include "coordinator/balance/unit_costs.h"
 #include "coordinator/frame/frame_assembler.h"
@@ -33,7 +34,7 @@ struct FrameWork {
     uint32_t seed = 0;
     int max_depth = 8;
     bool first_hits = false;  // the tiles carry first hits (FrameOutcome::first_hits)
-    bool light_tree = false;  // IntegratorSettings::light_selection is tree
+    wire::LightSampling light_sampling = wire::LightSampling::power;
     // Samples beyond spp (coordinator/pacing/extra_samples.h): their mean per pixel, the map
     // (converging weighs each pixel by it) and its wire form (common/film/
     // extra_samples_codec.h); null and empty: none.

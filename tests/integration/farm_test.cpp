@@ -67,14 +67,16 @@ TEST_P(FarmDeterminism, FramesEqualPathfarmRenderBitForBit) {
 
 INSTANTIATE_TEST_SUITE_P(Tracers, FarmDeterminism, ::testing::Values(1, 2, 3));
 
-// The coordinator's --light-sampler reaches the tracers (FrameAssignment.light_tree): the farm's
-// frame equals pathfarm-render's with the same sampler, and differs from the other sampler's
-// (the default, the tree, is what the determinism tests above run).
+// The coordinator's --light-sampler reaches the tracers (FrameAssignment.light_sampling): the
+// farm's frame equals pathfarm-render's with the same sampler, and differs from the other
+// sampler's. The default, auto, is what the determinism tests above run: each tracer resolves
+// it from its replica's state, to the tree on builtin:default (LightSamplerChoice.*).
 TEST(FarmLightSampler, TheCoordinatorsChoiceReachesTheTracers) {
     Farm farm;
     farm.start({"--frames", "1", "--light-sampler", "power"});
     farm.add_tracer("t", {"--max-reconnects", "0"});
     ASSERT_EQ(farm.finish(), 0);
+    farm.render_args = {"--light-sampler", "tree"};
     const std::string tree = farm.reference(0);
     std::rename(tree.c_str(), (farm.dir + "/tree.pfm").c_str());
     farm.render_args = {"--light-sampler", "power"};

@@ -86,9 +86,10 @@ void add_integrator_options(CLI::App& app, CommandLine& c) {
     c.light_sampler = pathfarm::light_selection_name(c.o.light_selection);
     app.add_option("--light-sampler", c.light_sampler,
                    "Emitter choice for next-event estimation: tree (by importance to the shading "
-                   "point) or power")
+                   "point), power, or auto (the tree where the scene's emitters differ in what "
+                   "they give its surfaces, else power)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"tree", "power"}));
+        ->check(CLI::IsMember({"tree", "power", "auto"}));
     app.add_option("--light-candidates", c.o.light_candidates,
                    "Resampled light selection: candidates drawn per light sample, one traced "
                    "(chosen by its unshadowed contribution); 1: off")
@@ -110,8 +111,7 @@ pathfarm::tools::RenderToolOptions finish_options(CommandLine& c) {
     o.strategy = strategies.at(c.strategy);
     o.specialise = c.kernel == "specialised";
     o.cull_sealed_lights = !c.no_light_culling;
-    o.light_selection = c.light_sampler == "tree" ? pathfarm::LightSelection::tree
-                                                  : pathfarm::LightSelection::power;
+    o.light_selection = *pathfarm::parse_light_selection(c.light_sampler);  // CLI checked it
     if (c.time_option->count() > 0) o.time = c.time;
     if (c.seconds_option->count() > 0) o.seconds = c.seconds;
     if (!c.look_from.empty()) o.look_from = to_vec3(c.look_from);

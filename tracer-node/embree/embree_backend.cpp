@@ -16,6 +16,7 @@
 #include "common/base/work_unit.h"
 #include "common/math/transform.h"
 #include "common/render/sealed_emitters.h"
+#include "tracer-node/backend/light_choice_log.h"
 #include "tracer-node/embree/embree_scene.h"
 
 namespace pathfarm::tracer {
@@ -85,14 +86,17 @@ public:
     void update_lights(const RenderJob& job) {
         const Vec3 eye = transform_point(job.frame.camera.camera_to_world, Vec3(0.0f));
         const bool culled_changed = culling_.update(eye, job.integrator.cull_sealed_lights);
-        if (!culled_changed && lights_ && lights_->selection() == job.integrator.light_selection)
+        if (!culled_changed && lights_ && lights_->requested() == job.integrator.light_selection)
             return;
         const std::vector<bool>& excluded = culling_.excluded();
         // The light tree is a function of this state alone (every tracer, one that joined late
         // too, must render a frame's rows bit for bit alike: docs/determinism.md); the kept
         // per-mesh topologies make it a refit and a small top level, not a build.
+        const std::optional<LightSelection> before =
+            lights_ ? std::optional(lights_->selection()) : std::nullopt;
         lights_ = std::make_unique<LightSampler>(*shading_, excluded,
                                                  job.integrator.light_selection, &topology_);
+        log_light_choice("embree backend", *lights_, before);
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",

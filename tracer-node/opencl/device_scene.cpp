@@ -177,6 +177,8 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
     out.lights.clear();
     out.light_nodes.clear();
     const LightTree& tree = lights.tree();
+    out.light_selection = lights.selection();
+    out.light_choice = lights.choice();
     out.features = scene_features(shading, lights);
     const auto& cdf = lights.cdf();
     for (std::size_t k = 0; k < lights.triangles().size(); ++k) {

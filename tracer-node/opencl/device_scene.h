@@ -21,7 +21,9 @@ struct PackedScene {
     PF_SCENE_ARRAYS(PF_PACKED_ARRAY)
 #undef PF_PACKED_ARRAY
     PfSceneGlobals globals{};
-    uint32_t features = 0;                // SceneFeature bits the scene needs (scene_features)
+    uint32_t features = 0;  // SceneFeature bits the scene needs (scene_features)
+    LightSelection light_selection = LightSelection::power;  // in use (auto resolved)
+    LightChoice light_choice{};                              // how auto chose, if asked
     std::size_t meshes_with_own_bvh = 0;  // meshes whose BVH the tracer built (none provided)
 };
 

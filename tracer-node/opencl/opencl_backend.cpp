@@ -6,6 +6,7 @@
 #include "common/base/timer.h"
 #include "common/math/transform.h"
 #include "common/render/sealed_emitters.h"
+#include "tracer-node/backend/light_choice_log.h"
 #include "tracer-node/opencl/cl_device.h"
 #include "tracer-node/opencl/device_array.h"
 #include "tracer-node/opencl/device_scene.h"
@@ -283,7 +284,10 @@ Status OpenClBackend::update_lights(const RenderJob& job) {
     if (!culled_changed && d.light_selection == job.integrator.light_selection) return {};
     const std::vector<bool>& excluded = d.culling.excluded();
     d.light_selection = job.integrator.light_selection;
+    const LightSelection before = d.light_state.light_selection;
     pack_lights(*d.scene, excluded, d.light_selection, d.light_state, &d.light_topology);
+    log_light_choice("opencl backend", d.light_selection, d.light_state.light_selection,
+                     d.light_state.light_choice, d.light_state.lights.size(), before);
     spdlog::debug(
         "opencl backend: {} emissive instance(s) sealed off from the camera ({} closed "
         "surface(s))",

@@ -40,7 +40,8 @@ void expect_error(const Result<T>& r, const std::string& part) {
 }
 
 TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
-    const Assignment a{7, 7, 8, 24, 320, 180, 4, 99, 6, 0.5f, true, true, "extra map bytes"};
+    const Assignment a{
+        7, 7, 8, 24, 320, 180, 4, 99, 6, 0.5f, true, LightSampling::tree, "extra map bytes"};
     const Assignment b = tracer_message<Assignment>(encode_assignment(a));
     EXPECT_EQ(b.frame, 7u);
     EXPECT_EQ(b.y0, 8u);
@@ -51,11 +52,18 @@ TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
     EXPECT_EQ(b.max_depth, 6u);
     EXPECT_EQ(b.rr_scale, 0.5f);
     EXPECT_TRUE(b.first_hits);
-    EXPECT_TRUE(b.light_tree);
+    EXPECT_EQ(b.light_sampling, LightSampling::tree);
+    for (LightSampling s : {LightSampling::power, LightSampling::tree, LightSampling::automatic}) {
+        Assignment c{1, 1, 0, 4, 8, 8};
+        c.light_sampling = s;
+        EXPECT_EQ(tracer_message<Assignment>(encode_assignment(c)).light_sampling, s);
+    }
     EXPECT_EQ(b.extra_samples_zstd, "extra map bytes");
     EXPECT_TRUE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8}))
                     .extra_samples_zstd.empty());
-    EXPECT_FALSE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).light_tree);
+    EXPECT_EQ(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).light_sampling,
+              LightSampling::power)
+        << "absent: by power";
     EXPECT_FALSE(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).first_hits);
     EXPECT_EQ(tracer_message<Assignment>(encode_assignment({1, 1, 0, 4, 8, 8})).rr_scale, 1.0f)
         << "absent roulette scale means 1";
@@ -72,6 +80,9 @@ TEST(WireMessages, AssignmentRoundTripsAndIsChecked) {
     w->set_spp(1);
     w->set_rr_scale(2.0f);
     expect_error(decode_for_tracer(e.SerializeAsString()), "roulette scale 2");
+    w->set_rr_scale(1.0f);
+    w->set_light_sampling(pb::LightSampling(7));  // a newer peer's sampler, unknown here
+    expect_error(decode_for_tracer(e.SerializeAsString()), "unknown light sampling 7");
 }
 
 TEST(WireMessages, TruncationIsItsOwnMessage) {
