@@ -209,6 +209,17 @@ void light_tree_rows() {
             const LightSampler s(shading_turned, {}, LightSelection::tree, &cache);
         }));
     if (cache.builds() != builds) std::fprintf(stderr, "accel_bench: a mesh tree was rebuilt\n");
+    // --light-sampler auto on top of that: the same tree, then its reading (it keeps the tree).
+    row("light_sampler_auto_kept_topology_light_field", before.size(), median_ms(9, [&] {
+            const LightSampler s(shading_turned, {}, LightSelection::automatic, &cache);
+        }));
+    // The demo's scene, whose light sampler a tracer builds anew each frame.
+    const SceneModel game = make_default_scene();
+    const ShadingScene shading_game(game);
+    for (LightSelection s : {LightSelection::tree, LightSelection::automatic})
+        row(s == LightSelection::tree ? "light_sampler_tree_default" : "light_sampler_auto_default",
+            LightSampler(shading_game).triangle_count(),
+            median_ms(9, [&] { const LightSampler l(shading_game, {}, s); }));
 }
 
 Result<SceneModel> load_or_report(const std::string& path) {

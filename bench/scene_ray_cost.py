@@ -6,8 +6,9 @@ also given over builtin:cornell's rays/s in the same run.
 
 builtin:furnace (a ball inside a sphere of 5 000 emitting triangles, every surface emitting 0.5
 and reflecting half) has an exact answer, 1 - 0.5^(d + 1) at maximum depth d, so its error is
-measured against that constant image: the light tree's and power's time at equal error,
-(t_tree mse_tree) / (t_power mse_power), since the error falls as 1/time.
+measured against that constant image: the light tree's (and auto's, which chooses per scene)
+time at equal error over power's, (t_tree mse_tree) / (t_power mse_power), since the error
+falls as 1/time.
 
 Writes bench/results/scene_ray_cost.csv (medians), scene_ray_cost_runs.csv (every run) and
 scene_ray_cost.png.
@@ -27,9 +28,9 @@ CASES = [
     ("builtin:cornell", "builtin:cornell", [], ["tree"]),
     ("cornell-obj", os.path.join(SCENES, "cornell-box", "CornellBox-Original.obj"), CORNELL_OBJ,
      ["tree"]),
-    ("builtin:default", "builtin:default", [], ["tree"]),
-    ("builtin:furnace", "builtin:furnace", [], ["tree", "power"]),
-    ("builtin:light-field", "builtin:light-field", [], ["tree", "power"]),
+    ("builtin:default", "builtin:default", [], ["tree", "auto"]),
+    ("builtin:furnace", "builtin:furnace", [], ["tree", "power", "auto"]),
+    ("builtin:light-field", "builtin:light-field", [], ["tree", "power", "auto"]),
 ]
 
 
@@ -91,9 +92,10 @@ def main():
     for row in rows:
         print(",".join(map(str, row)))
     furnace = {s: (med(("builtin:furnace", s), "seconds"), figures[("builtin:furnace", s)][0][1])
-               for s in ("tree", "power")}
-    ratio = (furnace["tree"][0] * furnace["tree"][1]) / (furnace["power"][0] * furnace["power"][1])
-    print(f"builtin:furnace: the tree's time at equal error over power's = {ratio:.3f}")
+               for s in ("tree", "power", "auto")}
+    for s in ("tree", "auto"):
+        ratio = (furnace[s][0] * furnace[s][1]) / (furnace["power"][0] * furnace["power"][1])
+        print(f"builtin:furnace: {s}'s time at equal error over power's = {ratio:.3f}")
 
     subprocess.run(["gnuplot"], input=f"""
 set datafile separator ','
