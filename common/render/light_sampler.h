@@ -100,6 +100,7 @@ public:
     };
     const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
     const std::vector<float>& cdf() const { return cdf_.values(); }  // normalised cumulative power
+    const std::vector<uint32_t>& cdf_guide() const { return cdf_.guide(); }  // GuidedCdf::guide
     // The selection in use (tree or power), and the one asked for (automatic too).
     LightSelection selection() const { return selection_; }
     LightSelection requested() const { return requested_; }

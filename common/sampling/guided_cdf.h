@@ -48,6 +48,8 @@ public:
     }
 
     const std::vector<float>& values() const { return cdf_; }
+    // guide()[j]: the first entry above j / size(), for j in [0, size()] (empty if size() is 0).
+    const std::vector<uint32_t>& guide() const { return guide_; }
     std::size_t size() const { return cdf_.size(); }
     bool empty() const { return cdf_.empty(); }
 

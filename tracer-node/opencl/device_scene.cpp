@@ -176,6 +176,7 @@ void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
     const LightSampler lights(shading, excluded, selection, topology);
     out.lights.clear();
     out.light_nodes.clear();
+    out.light_guide = lights.cdf_guide();
     const LightTree& tree = lights.tree();
     out.light_selection = lights.selection();
     out.light_choice = lights.choice();

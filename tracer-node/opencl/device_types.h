@@ -233,6 +233,7 @@ typedef struct {
     X(textures, PfTexture)                                              \
     X(texels, pf_uchar) /* RGBA8, all images back to back */            \
     X(lights, PfLight)                                                  \
+    X(light_guide, pf_uint) /* GuidedCdf's guide over lights' cdf */    \
     X(light_nodes, PfLightNode)
 
 #endif  // PATHFARM_OPENCL_DEVICE_TYPES_H

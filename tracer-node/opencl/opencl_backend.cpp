@@ -294,6 +294,7 @@ Status OpenClBackend::update_lights(const RenderJob& job) {
         std::count(excluded.begin(), excluded.end(), true), d.culling.enclosure_count());
     const std::vector<PfSceneGlobals> globals{d.light_state.globals};
     for (Status s : {d.upload_array("lights", d.lights, d.light_state.lights),
+                     d.upload_array("light_guide", d.light_guide, d.light_state.light_guide),
                      d.upload_array("light_nodes", d.light_nodes, d.light_state.light_nodes),
                      d.upload_array("instances", d.instances, d.light_state.instances),
                      d.upload_array("globals", d.globals, globals)})

@@ -214,6 +214,30 @@ float pf_light_tree_pmf(const PfScene* s, float3 p, float3 n, uint emitter) {
     }
 }
 
+// std::upper_bound over the lights' cdf in [lo, hi): the first light whose cumulative power
+// exceeds u.
+uint pf_cdf_upper_bound(const PfScene* s, uint lo, uint hi, float u) {
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2;
+        if (s->lights[mid].cdf <= u) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+// GuidedCdf::upper_bound (common/sampling/guided_cdf.h): the search narrowed by the guide
+// table to u's bucket, the answer checked against its neighbours and searched for over the
+// whole cdf where rounding put u in the wrong bucket, so it is the whole search's to the bit.
+uint pf_light_upper_bound(const PfScene* s, uint m, float u) {
+    const float scaled = u * (float)m;
+    if (scaled >= 0.0f && scaled < (float)m) {
+        const uint j = (uint)scaled;
+        const uint k = pf_cdf_upper_bound(s, s->light_guide[j], s->light_guide[j + 1], u);
+        if ((k == 0 || !(s->lights[k - 1].cdf > u)) && (k == m || s->lights[k].cdf > u)) return k;
+    }
+    return pf_cdf_upper_bound(s, 0, m, u);
+}
+
 bool pf_sample_light(const PfScene* s, float3 from, float3 normal, float u_select, float2 u,
                      PfLightSample* ls) {
     __global const PfSceneGlobals* g = s->globals;
@@ -244,14 +268,7 @@ bool pf_sample_light(const PfScene* s, float3 from, float3 normal, float u_selec
     if (g->light_tree != 0u) {
         if (!pf_light_tree_sample(s, from, normal, us, &k, &pmf)) return false;
     } else {
-        // upper_bound: the first light whose cumulative power exceeds us.
-        uint lo = 0, hi = g->light_count;
-        while (lo < hi) {
-            const uint mid = (lo + hi) / 2;
-            if (s->lights[mid].cdf <= us) lo = mid + 1;
-            else hi = mid;
-        }
-        k = min(lo, g->light_count - 1);
+        k = min(pf_light_upper_bound(s, g->light_count, us), g->light_count - 1);
         pmf = s->lights[k].cdf - (k > 0 ? s->lights[k - 1].cdf : 0.0f);
     }
     __global const PfLight* tri = &s->lights[k];
