@@ -141,6 +141,15 @@ TEST(RealtimeFarm, DefaultGameMovesTheBallAndSwitchesTheLight) {
     EXPECT_EQ(num(rows[30], kF), 1.0);
     EXPECT_EQ(num(rows[30], kKept), 0.0);
     EXPECT_LT(num(rows[29], kF), 0.5);
+    // The default light sampler, auto, reached the tracer and chose the tree; the tracer says
+    // so once, not at each of the 36 rebuilds of its light sampler (the ball moves every frame).
+    const std::string log = test::read_file(farm.dir + "/t.log");
+    int said = 0;
+    for (std::size_t at = log.find("auto chose"); at != std::string::npos;
+         at = log.find("auto chose", at + 1))
+        ++said;
+    EXPECT_EQ(said, 1) << log;
+    EXPECT_NE(log.find("auto chose tree"), std::string::npos);
 }
 
 // --extra-samples with --fixed-spp: the coordinator plans them (where the rolling ball leaves

@@ -92,11 +92,10 @@ public:
         // The light tree is a function of this state alone (every tracer, one that joined late
         // too, must render a frame's rows bit for bit alike: docs/determinism.md); the kept
         // per-mesh topologies make it a refit and a small top level, not a build.
-        const std::optional<LightSelection> before =
-            lights_ ? std::optional(lights_->selection()) : std::nullopt;
         lights_ = std::make_unique<LightSampler>(*shading_, excluded,
                                                  job.integrator.light_selection, &topology_);
-        log_light_choice("embree backend", *lights_, before);
+        log_light_choice("embree backend", *lights_, light_in_use_);
+        light_in_use_ = lights_->selection();
         spdlog::debug(
             "embree backend: {} emissive instance(s) sealed off from the camera ({} closed "
             "surface(s))",
@@ -193,6 +192,9 @@ private:
     LightCulling culling_;
     LightTopologyCache topology_;  // each emissive mesh's light tree, across states
     std::unique_ptr<LightSampler> lights_;
+    // The last light sampler's selection (lights_ is dropped at every scene change): the log
+    // says what auto chose when that changes, not at every rebuild.
+    std::optional<LightSelection> light_in_use_;
     const SceneModel* adopted_ = nullptr;  // the model shading_ refers to
 };
 

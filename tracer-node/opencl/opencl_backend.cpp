@@ -34,6 +34,7 @@ struct OpenClBackend::Impl {
     LightCulling culling;
     PackedScene light_state;  // instances, lights and globals as last uploaded
     LightSelection light_selection = LightSelection::power;  // as last packed
+    std::optional<LightSelection> light_in_use;              // what that resolved to (for the log)
     LightTopologyCache light_topology;                       // each emissive mesh's light tree
     bool texture_lod = true;                                 // BackendOptions::texture_lod
     TextureMips mips;  // kept across updates: rebuilt for changed images only
@@ -284,10 +285,10 @@ Status OpenClBackend::update_lights(const RenderJob& job) {
     if (!culled_changed && d.light_selection == job.integrator.light_selection) return {};
     const std::vector<bool>& excluded = d.culling.excluded();
     d.light_selection = job.integrator.light_selection;
-    const LightSelection before = d.light_state.light_selection;
     pack_lights(*d.scene, excluded, d.light_selection, d.light_state, &d.light_topology);
     log_light_choice("opencl backend", d.light_selection, d.light_state.light_selection,
-                     d.light_state.light_choice, d.light_state.lights.size(), before);
+                     d.light_state.light_choice, d.light_state.lights.size(), d.light_in_use);
+    d.light_in_use = d.light_state.light_selection;
     spdlog::debug(
         "opencl backend: {} emissive instance(s) sealed off from the camera ({} closed "
         "surface(s))",
