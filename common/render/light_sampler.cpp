@@ -99,7 +99,7 @@ void LightSampler::make_tree(const std::vector<LightBounds>& bounds, LightTopolo
 
 float LightSampler::selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const {
     if (selection_ == LightSelection::tree) return tree_.pmf(from, normal, uint32_t(k));
-    return power_pmf(k);
+    return cdf_.pmf(k);
 }
 
 std::optional<LightSample> LightSampler::sample(const Vec3& from, const Vec3& normal,

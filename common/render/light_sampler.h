@@ -116,7 +116,6 @@ private:
     // The selection probability of emitter k for a receiver at (from, normal).
     float selection_pmf(std::size_t k, const Vec3& from, const Vec3& normal) const;
 
-    float power_pmf(std::size_t k) const;
     double unshadowed_light(std::size_t k, const Vec3& p, const Vec3& n) const;
     // Tree or power for this state, from tree_ (light_sampler_choice.cpp).
     LightChoice measure_choice() const;

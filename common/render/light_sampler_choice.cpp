@@ -58,11 +58,6 @@ std::vector<LightChoiceReceiver> light_choice_receivers(const ShadingScene& shad
     return out;
 }
 
-float LightSampler::power_pmf(std::size_t k) const {
-    const std::vector<float>& cdf = cdf_.values();
-    return cdf[k] - (k > 0 ? cdf[k - 1] : 0.0f);
-}
-
 // The unshadowed light emitter k gives a receiver, up to a factor common to all emitters:
 // its radiance (power over area and sides) times the geometry term at its centroid, the
 // distance kept above the triangle's size.
@@ -77,7 +72,7 @@ double LightSampler::unshadowed_light(std::size_t k, const Vec3& p, const Vec3& 
     const float in = glm::dot(n, w);
     if (!(out > 0.0f && in > 0.0f)) return 0.0;
     const double sides = m.double_sided ? 2.0 : 1.0;
-    return double(power_pmf(k)) / sides * out * in / std::max(d2, e.area);
+    return double(cdf_.pmf(k)) / sides * out * in / std::max(d2, e.area);
 }
 
 LightChoice LightSampler::measure_choice() const {
@@ -95,7 +90,7 @@ LightChoice LightSampler::measure_choice() const {
             const auto c = tree_.sample(r.p, r.n, u);
             if (!c || !(c->pmf > 0.0f)) continue;
             const double f = unshadowed_light(c->emitter, r.p, r.n);
-            const double p_power = power_pmf(c->emitter);
+            const double p_power = cdf_.pmf(c->emitter);
             if (!(f > 0.0) || !(p_power > 0.0)) continue;
             const double w = f / c->pmf;
             sum += w;

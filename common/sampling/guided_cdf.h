@@ -52,6 +52,8 @@ public:
     const std::vector<uint32_t>& guide() const { return guide_; }
     std::size_t size() const { return cdf_.size(); }
     bool empty() const { return cdf_.empty(); }
+    // The probability of entry k (its step in the CDF).
+    float pmf(std::size_t k) const { return cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f); }
 
     // The index of the first entry greater than u (size() if none), as std::upper_bound.
     std::size_t upper_bound(float u) const {
