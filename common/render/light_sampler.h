@@ -43,13 +43,18 @@ std::optional<LightSelection> parse_light_selection(std::string_view name);
 struct LightChoice {
     LightSelection selection = LightSelection::power;
     double variance_ratio = 1.0;
-    int receivers = 0;  // those some emitter lights
+    int receivers = 0;        // those some emitter lights, of those read
+    bool first_look = false;  // decided after kFirstLook receivers (the reading was clear)
     // The tree costs up to 1.7x power's time per ray (builtin:furnace, docs/performance.md):
     // below 1 / 1.7 of power's variance it is worth that even where the whole error is the
     // light's choice.
     static constexpr double kTreeBelow = 0.6;
     // Tree choices per receiver behind each receiver's reading.
     static constexpr int kChoicesPerReceiver = 32;
+    // Receivers (of 128) read before deciding early: when at least half of them are lit and
+    // their median lies beyond kClearFactor either side of kTreeBelow.
+    static constexpr int kFirstLook = 32;
+    static constexpr double kClearFactor = 2.5;
 };
 
 // Where LightChoice reads a scene: points uniform over its triangles by count (not by area:

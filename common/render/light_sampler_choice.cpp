@@ -75,12 +75,24 @@ double LightSampler::unshadowed_light(std::size_t k, const Vec3& p, const Vec3& 
     return double(cdf_.pmf(k)) / sides * out * in / std::max(d2, e.area);
 }
 
+namespace {
+
+double median(std::vector<double> values) {
+    const auto mid = values.begin() + std::ptrdiff_t(values.size() / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    return *mid;
+}
+
+}  // namespace
+
 LightChoice LightSampler::measure_choice() const {
     LightChoice choice;
     if (tree_.empty()) return choice;
     std::vector<double> ratios;
     constexpr int kChoices = LightChoice::kChoicesPerReceiver;
-    for (const LightChoiceReceiver& r : light_choice_receivers(shading_)) {
+    const std::vector<LightChoiceReceiver> receivers = light_choice_receivers(shading_);
+    for (std::size_t i = 0; i < receivers.size(); ++i) {
+        const LightChoiceReceiver& r = receivers[i];
         // With w = f / p_tree over the tree's choices: the light's sum is E[w], the tree's
         // second moment E[w^2], power's E[w f / p_power] (importance sampled by the tree, which
         // reaches every emitter that lights the receiver).
@@ -98,18 +110,27 @@ LightChoice LightSampler::measure_choice() const {
             power_second += w * f / p_power;
         }
         const double mean = sum / kChoices;
-        if (!(mean > 0.0)) continue;  // unlit (as far as the tree's choices saw)
-        const double by_tree = std::max(0.0, tree_second / kChoices - mean * mean);
-        const double by_power = std::max(0.0, power_second / kChoices - mean * mean);
-        const double tiny = 1e-9 * mean * mean;
-        ratios.push_back(by_tree <= tiny && by_power <= tiny ? 1.0
-                                                             : by_tree / std::max(by_power, tiny));
+        if (mean > 0.0) {  // else unlit (as far as the tree's choices saw)
+            const double by_tree = std::max(0.0, tree_second / kChoices - mean * mean);
+            const double by_power = std::max(0.0, power_second / kChoices - mean * mean);
+            const double tiny = 1e-9 * mean * mean;
+            ratios.push_back(
+                by_tree <= tiny && by_power <= tiny ? 1.0 : by_tree / std::max(by_power, tiny));
+        }
+        // The first look: where its receivers read far from the threshold, the rest would
+        // not change the decision (the whole reading is itself within a factor of 3 of the
+        // whole sum over every emitter), and most scenes are far from it.
+        if (i + 1 == std::size_t(LightChoice::kFirstLook) &&
+            ratios.size() >= std::size_t(LightChoice::kFirstLook / 2)) {
+            const double first = median(ratios);
+            choice.first_look = first < LightChoice::kTreeBelow / LightChoice::kClearFactor ||
+                                first > LightChoice::kTreeBelow * LightChoice::kClearFactor;
+            if (choice.first_look) break;
+        }
     }
     choice.receivers = int(ratios.size());
     if (ratios.empty()) return choice;
-    const auto mid = ratios.begin() + std::ptrdiff_t(ratios.size() / 2);
-    std::nth_element(ratios.begin(), mid, ratios.end());
-    choice.variance_ratio = *mid;
+    choice.variance_ratio = median(std::move(ratios));
     choice.selection = choice.variance_ratio < LightChoice::kTreeBelow ? LightSelection::tree
                                                                        : LightSelection::power;
     return choice;

@@ -46,11 +46,11 @@ TEST(LightSamplerChoice, ChoosesAsMeasuredOnTheBuiltinScenes) {
     };
     for (const Case& c : cases) {
         const LightChoice choice = choice_for(c.scene);
-        std::printf("%s: %s, tree's variance %.3fx power's over %d receivers\n", c.name,
-                    light_selection_name(choice.selection), choice.variance_ratio,
-                    choice.receivers);
+        std::printf("%s: %s, tree's variance %.3fx power's over %d receivers%s\n", c.name,
+                    light_selection_name(choice.selection), choice.variance_ratio, choice.receivers,
+                    choice.first_look ? " (first look)" : "");
         EXPECT_EQ(choice.selection, c.expected) << c.name << ": ratio " << choice.variance_ratio;
-        EXPECT_GT(choice.receivers, 32) << c.name;
+        EXPECT_GE(choice.receivers, LightChoice::kFirstLook / 2) << c.name;
     }
 }
 
@@ -179,7 +179,7 @@ double whole_sum_ratio(const ShadingScene& shading, const LightSampler& lights) 
 
 TEST(LightSamplerChoice, ItsReadingAgreesWithTheWholeSumOnRandomScenes) {
     std::mt19937 rng(2026);
-    int decided = 0;
+    int decided = 0, first_looks = 0;
     for (int s = 0; s < 40; ++s) {
         const SceneModel scene = random_scene(rng);
         const ShadingScene shading(scene);
@@ -187,8 +187,20 @@ TEST(LightSamplerChoice, ItsReadingAgreesWithTheWholeSumOnRandomScenes) {
         const LightSampler chosen(shading, {}, LightSelection::automatic);
         const double exact = whole_sum_ratio(shading, tree);
         const double read = chosen.choice().variance_ratio;
-        std::printf("scene %2d: %5zu emitters, whole sum %.3f, read %.3f, %s\n", s,
-                    tree.triangle_count(), exact, read, light_selection_name(chosen.selection()));
+        const bool first_look = chosen.choice().first_look;
+        std::printf("scene %2d: %5zu emitters, whole sum %.3f, read %.3f, %s%s\n", s,
+                    tree.triangle_count(), exact, read, light_selection_name(chosen.selection()),
+                    first_look ? " (first look)" : "");
+        first_looks += first_look;
+        // A first look that decides reads a quarter of the receivers: its choice must be the
+        // whole sum's, however far its median lies from the whole one (it read 2.6x high on
+        // one scene whose whole sum was 5x above the threshold).
+        if (first_look) {
+            EXPECT_EQ(chosen.selection(), exact < LightChoice::kTreeBelow ? LightSelection::tree
+                                                                          : LightSelection::power)
+                << "scene " << s << ": first look read " << read << ", whole sum " << exact;
+            continue;
+        }
         // 32 choices per receiver read the ratio within a factor of 2.2 on these scenes as GCC
         // builds them and 2.7 as clang does (its float arithmetic places the quads a little
         // otherwise); 16 choices within 3.3, with three decisions the whole sum would not make;
@@ -203,7 +215,8 @@ TEST(LightSamplerChoice, ItsReadingAgreesWithTheWholeSumOnRandomScenes) {
                 << "scene " << s << ": whole sum " << exact;
         }
     }
-    EXPECT_GT(decided, 20);
+    EXPECT_GT(decided, 10);
+    EXPECT_GT(first_looks, 10);
 }
 
 }  // namespace
