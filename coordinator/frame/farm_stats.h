@@ -15,7 +15,7 @@ inline constexpr std::string_view kFrameStatsColumns =
 inline constexpr std::string_view kTracerStatsColumns =
     "frame,tracer,first_row,rows,render_ms,rows_delivered,update_ms";
 inline constexpr std::string_view kStageColumns =
-    "frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_ms";
+    "frame,send_ms,prepare_next_ms,wait_tiles_ms,assemble_ms,prepare_ms";
 inline constexpr std::string_view kUnitCostColumns = "frame,unit,cost_us";
 // pathfarm-coordinator --offline --stats-csv
 inline constexpr std::string_view kOfflineStatsColumns =

@@ -285,9 +285,12 @@ Status Farm::run(const std::atomic<bool>& stop) {
     const Timer clock;
     int completed = 0;
     for (uint64_t f = 0; (o_.frames == 0 || f < uint64_t(o_.frames)) && !stop; ++f) {
-        if (scaler_) {  // paced: prepared now, after the wait, with the newest input
+        double prepare_ms = 0.0;  // real time: this frame's, on the way from input to tracers
+        if (scaler_) {            // paced: prepared now, after the wait, with the newest input
             pacer.wait();
+            const Timer preparing;
             if (f > 0) next = prepare(f);
+            prepare_ms = preparing.milliseconds();
         }
         const bool skip = converged_and_unchanged(next);
         if (!tracers_.wait_for(f == 0 ? std::size_t(std::max(1, o_.min_tracers)) : 1, stop)) break;
@@ -303,7 +306,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
             ++completed;
             continue;
         }
-        const double prepare_ms = stage.milliseconds();
+        const double prepare_next_ms = stage.milliseconds();
         stage.reset();
         const TracerPool::Wait end = tracers_.wait_for_frame(stop);
         if (end != TracerPool::Wait::complete) continue;
@@ -312,7 +315,7 @@ Status Farm::run(const std::atomic<bool>& stop) {
         FrameOutcome outcome = tracers_.finish();
         observe_frame_time(frame_ms, outcome);
         display(current, std::move(outcome), frame_ms, true);
-        stages_.row(f, send_ms, prepare_ms, wait_ms, stage.milliseconds());
+        stages_.row(f, send_ms, prepare_next_ms, wait_ms, stage.milliseconds(), prepare_ms);
         log_rate(f, ++completed);
     }
     std::printf("frames=%d seconds=%.3f fps=%.2f\n", completed, clock.seconds(),

@@ -24,9 +24,9 @@ TEST(FarmStats, WritesTheHeaderAndRowsOfItsColumns) {
     {
         CsvWriter csv(path, kStageColumns);
         ASSERT_TRUE(csv.active());
-        csv.row(3, 0.5, 1.25, 180.0, 2);
+        csv.row(3, 0.5, 1.25, 180.0, 2, 0.75);
     }
-    EXPECT_EQ(read_file(path), std::string(kStageColumns) + "\n3,0.5,1.25,180,2\n");
+    EXPECT_EQ(read_file(path), std::string(kStageColumns) + "\n3,0.5,1.25,180,2,0.75\n");
     CsvWriter none("", kStageColumns);
     EXPECT_FALSE(none.active());
     none.row(1, 2);  // writes nothing, checks nothing
