@@ -9,13 +9,15 @@
 #include "common/base/work_unit.h"
 #include "common/film/extra_samples_codec.h"
 #include "common/film/first_hits.h"
-#include "common/film/float_codec.h"
 
 namespace pathfarm::tracer {
 
 FrameWorker::FrameWorker(const TracerOptions& options, RenderBackend& backend, Send send,
                          RenderControl control)
-    : options_(options), backend_(backend), send_(std::move(send)), control_(std::move(control)) {}
+    : options_(options),
+      backend_(backend),
+      control_(std::move(control)),
+      sender_(std::move(send)) {}
 
 Status FrameWorker::handle(const wire::TracerInbound& message) {
     if (const auto* chunk = std::get_if<wire::ChunkPart>(&message)) {
@@ -102,12 +104,17 @@ Status FrameWorker::render(const wire::Assignment& a) {
         : a.light_sampling == wire::LightSampling::automatic ? LightSelection::automatic
                                                              : LightSelection::power;
     const int tile_rows = kRowsPerTile;
+    Status result;
     for (int y = int(a.y0); y < int(a.y1); y += tile_rows) {
-        if (control_.newest_commit() > a.commit) return {};  // the frame closed: drop stale rows
-        if (control_.truncated(a, uint32_t(y))) return {};   // the rest went to another tracer
-        if (Status s = render_tile(a, job, y, std::min(int(a.y1), y + tile_rows)); !s) return s;
+        if (control_.newest_commit() > a.commit) break;  // the frame closed: drop stale rows
+        if (control_.truncated(a, uint32_t(y))) break;   // the rest went to another tracer
+        if (Status s = render_tile(a, job, y, std::min(int(a.y1), y + tile_rows)); !s) {
+            result = s;
+            break;
+        }
     }
-    return {};
+    sender_.flush();  // every tile of the assignment is sent when handle() returns
+    return result;
 }
 
 Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y0, int y1) {
@@ -126,7 +133,6 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
     if (tile.y1 == uint32_t(y0)) return {};  // nothing of it is wanted any more
     rgb.resize(std::size_t(tile.y1 - tile.y0) * a.width * 3);
     tile.raw_bytes = uint32_t(rgb.size() * sizeof(float));
-    tile.rgb_zstd = compress_floats(rgb.data(), rgb.size());
     if (a.first_hits) {
         hits.resize(std::size_t(tile.y1 - tile.y0) * a.width);
         for (FirstHit& h : hits) {
@@ -138,11 +144,11 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
             h.instance =
                 scene_.instances[h.instance].id;  // the commit's, which the coordinator knows
         }
-        tile.first_hits_zstd = encode_first_hits(hits.data(), hits.size());
     }
     tile.render_ms = tile_timer.milliseconds();
     tile.update_ms = std::exchange(update_ms_, 0.0);
-    send_(wire::encode_tile(tile));
+    // Compressed and sent beside the next tile's render (tile_sender.h).
+    sender_.submit({std::move(tile), std::move(rgb), std::move(hits), a.first_hits});
     return {};
 }
 

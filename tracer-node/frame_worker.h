@@ -1,8 +1,9 @@
 // The tracer's work on one connection (DESIGN.md, "The frame" step 5): keeps a replica in step
 // with the coordinator's commits, hands the backend the scene and what changed, renders the
 // rows it is assigned in tiles, each 4-row unit timed for the balancer (in one parallel call
-// per tile where the backend times units itself, else one call per unit), and sends them. No
-// sockets: messages come in decoded, tiles go out through a callback, so tests drive it directly.
+// per tile where the backend times units itself, else one call per unit), and sends them
+// (encoded beside the next tile's render, all sent before handle() returns). No sockets:
+// messages come in decoded, tiles go out through a callback, so tests drive it directly.
 #pragma once
 
 #include <functional>
@@ -12,6 +13,7 @@
 #include "common/wire/messages.h"
 #include "tracer-node/backend/render_backend.h"
 #include "tracer-node/replica/replica.h"
+#include "tracer-node/tile_sender.h"
 #include "tracer-node/tracer_daemon.h"
 
 namespace pathfarm::tracer {
@@ -45,12 +47,12 @@ private:
 
     const TracerOptions& options_;
     RenderBackend& backend_;
-    Send send_;
     RenderControl control_;
     Replica replica_;
     SceneModel scene_;        // what the backend renders; outlives its use by the backend
     double update_ms_ = 0.0;  // this frame's replica and backend update, sent with its first tile
     std::vector<uint8_t> deformed_;  // per scene_ instance: its vertices changed in this commit
+    TileSender sender_;              // last: its thread stops (sending what is queued) first
 };
 
 }  // namespace pathfarm::tracer
