@@ -148,7 +148,7 @@ Status FrameWorker::render_tile(const wire::Assignment& a, RenderJob& job, int y
     tile.render_ms = tile_timer.milliseconds();
     tile.update_ms = std::exchange(update_ms_, 0.0);
     // Compressed and sent beside the next tile's render (tile_sender.h).
-    sender_.submit({std::move(tile), std::move(rgb), std::move(hits), a.first_hits});
+    sender_.submit({std::move(tile), std::move(rgb), std::move(hits)});
     return {};
 }
 

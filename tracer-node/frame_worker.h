@@ -26,7 +26,7 @@ struct RenderControl {
 
 class FrameWorker {
 public:
-    using Send = std::function<void(std::string envelope)>;
+    using Send = TileSender::Send;
     FrameWorker(const TracerOptions& options, RenderBackend& backend, Send send,
                 RenderControl control);
 

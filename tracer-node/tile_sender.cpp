@@ -45,7 +45,7 @@ void TileSender::run() {
         // workload scaler's part that grows with the pixels), as when it encoded inline.
         const Timer encoding;
         job.tile.rgb_zstd = compress_floats(job.rgb.data(), job.rgb.size());
-        if (job.with_hits)
+        if (!job.hits.empty())
             job.tile.first_hits_zstd = encode_first_hits(job.hits.data(), job.hits.size());
         job.tile.render_ms += encoding.milliseconds();
         send_(wire::encode_tile(job.tile));

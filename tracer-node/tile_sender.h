@@ -21,14 +21,13 @@ namespace pathfarm::tracer {
 class TileSender {
 public:
     using Send = std::function<void(std::string envelope)>;
-    // A rendered tile: its pixels (RGB floats, row by row) and, if asked for, its first hits
-    // (already in the coordinator's instance ids); `tile` has everything else, its render_ms
-    // the render's (the encoding's time is added).
+    // A rendered tile: its pixels (RGB floats, row by row) and its first hits if they were
+    // asked for (else none; already in the coordinator's instance ids); `tile` has everything
+    // else, its render_ms the render's (the encoding's time is added).
     struct Job {
         wire::Tile tile;
         std::vector<float> rgb;
         std::vector<FirstHit> hits;
-        bool with_hits = false;
     };
 
     explicit TileSender(Send send);

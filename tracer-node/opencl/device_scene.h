@@ -52,10 +52,9 @@ PackedScene pack_scene(const SceneModel& scene, const std::vector<MeshBvhView>& 
                        LocalBvhCache& cache, const TextureMips* mips = nullptr);
 
 // (Re)fills out.lights, out.light_guide (power's guide table), out.light_nodes (the light tree,
-// for LightSelection::tree),
-// out.globals' light fields and the instances' first_light for the emitters not flagged in
-// `excluded` (LightSampler's exclusion); out.instances must be packed. `topology`: the
-// per-mesh light trees kept from earlier states (the same tree either way).
+// for LightSelection::tree), out.globals' light fields and the instances' first_light for the
+// emitters not flagged in `excluded` (LightSampler's exclusion); out.instances must be packed.
+// `topology`: the per-mesh light trees kept from earlier states (the same tree either way).
 void pack_lights(const SceneModel& scene, const std::vector<bool>& excluded,
                  LightSelection selection, PackedScene& out,
                  LightTopologyCache* topology = nullptr);
