@@ -28,15 +28,16 @@ struct SharedMesh {
 
 // Meshes placed once are baked in model space into one BVH (rays traverse it as fast as a flat
 // scene): the top level itself, or, with shared meshes and over kFlatTopTriangles, a scene of
-// its own under an identity instance. Meshes placed several times, and dynamic instances' meshes,
+// its own that every query traverses first and the top level then with what is left of the
+// ray (under an identity instance in the top level, each ray paid the instance: 4.3 % more
+// instructions on builtin:default). Meshes placed several times, and dynamic instances' meshes,
 // keep a scene of their own, instanced. A camera move within its recentring cell changes
 // nothing here; a moved instance re-bakes its triangles or moves its instance.
 struct EmbreeScene::Impl {
     RTCDevice device = nullptr;
     RTCScene top = nullptr;
-    RTCScene baked = nullptr;
-    uint32_t baked_id = 0;                // the baked scene's instance in the top level
-    bool packets = false;                 // the device traces 8-ray packets natively
+    RTCScene baked = nullptr;  // the top level, or the baked triangles' scene traced before it
+    bool packets = false;      // the device traces 8-ray packets natively
     std::vector<TriangleGeometry> bakes;  // by SceneModel instance (geom null: not baked)
     std::vector<SharedMesh> shared;       // by SceneModel mesh (scene null: not shared)
     std::vector<RTCGeometry> placements;  // by SceneModel instance: its instance of a shared mesh
@@ -103,19 +104,18 @@ struct EmbreeScene::Impl {
         rtcCommitGeometry(placements[i]);
     }
 
-    void attach_instance(RTCScene child, uint32_t id, const Mat4& transform, RTCGeometry* out) {
+    RTCGeometry attach_instance(RTCScene child, uint32_t id, const Mat4& transform) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, child);
         rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transform[0][0]);
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(top, g, id);
         rtcReleaseGeometry(g);  // the top level keeps it
-        if (out) *out = g;
+        return g;
     }
 
     void build(const SceneModel& scene) {
         const uint32_t count = uint32_t(scene.instances.size());
-        baked_id = count;
         bakes.resize(count);
         placements.assign(count, nullptr);
         shared.resize(scene.meshes.size());
@@ -123,11 +123,10 @@ struct EmbreeScene::Impl {
             if (scene.meshes[scene.instances[i].mesh].triangle_count() > 0)
                 shared[scene.instances[i].mesh].users.push_back(i);
         // Baked triangles sit in the top level itself unless there are shared meshes to move and
-        // so many baked triangles that rebuilding them with every move costs more than the
-        // identity instance above a baked scene costs rays (5 % on the Cornell box, 9 % on
-        // builtin:default); rebuilding takes about 0.3-0.8 us per triangle on two threads. In
-        // the demo, where builtin:default's ball rolls every frame, the flat top level cost
-        // each tracer 8.5 ms a frame (11 % of its time); under its identity instance, 0.06 ms.
+        // so many baked triangles that rebuilding them with every move costs more than tracing
+        // two scenes costs rays; rebuilding takes about 0.3-0.8 us per triangle on two threads.
+        // In the demo, where builtin:default's ball rolls every frame, the flat top level cost
+        // each tracer 8.5 ms a frame (11 % of its time); with the baked scene apart, 0.06 ms.
         // A dynamic instance of a mesh placed once is instanced like a shared mesh's: moving it
         // is then a top-level commit, not a build of every baked triangle.
         std::size_t baked_triangles = 0;
@@ -148,23 +147,22 @@ struct EmbreeScene::Impl {
                 make_triangles(bakes[i], scene, mesh, &scene.instances[i].transform, baked, i);
             } else if (!shared[mesh].users.empty()) {
                 if (!shared[mesh].scene) build_shared(scene, mesh);
-                attach_instance(shared[mesh].scene, i, scene.instances[i].transform,
-                                &placements[i]);
+                placements[i] =
+                    attach_instance(shared[mesh].scene, i, scene.instances[i].transform);
             }
         }
-        if (baked != top) {
-            rtcCommitScene(baked);
-            attach_instance(baked, baked_id, Mat4(1.0f), nullptr);
-        }
+        if (baked != top) rtcCommitScene(baked);
         rtcCommitScene(top);
     }
 
     // An Embree hit as the integrator's: baked triangles carry their instance's index as
     // geometry ID, placements as instance ID.
-    Hit to_hit(float t, unsigned geom, unsigned placed, unsigned prim, float u, float v) const {
-        return {t, placed == RTC_INVALID_GEOMETRY_ID || placed == baked_id ? geom : placed, prim, u,
-                v};
+    static Hit to_hit(float t, unsigned geom, unsigned placed, unsigned prim, float u, float v) {
+        return {t, placed == RTC_INVALID_GEOMETRY_ID ? geom : placed, prim, u, v};
     }
+
+    // A baked scene apart from the top level: queries traverse it first.
+    bool baked_apart() const { return baked != top; }
 
     bool is_baked(uint32_t instance) const { return bakes[instance].geom != nullptr; }
     // Mesh m is placed once, by an instance that is not dynamic: its triangles are baked.
@@ -233,9 +231,9 @@ EmbreeUpdate EmbreeScene::Impl::update(const SceneModel& scene, const SceneChang
                 top_dirty = true;
             }
     }
-    if (rebake && baked != top) rtcCommitScene(baked);  // a full build of the baked BVH
+    if (rebake && baked_apart()) rtcCommitScene(baked);  // a full build of the baked BVH
     u.baked_rebuilt = rebake;
-    if (rebake || top_dirty) rtcCommitScene(top);  // children's bounds or placements changed
+    if (top_dirty || (rebake && !baked_apart())) rtcCommitScene(top);
     return u;
 }
 
@@ -271,6 +269,8 @@ Result<EmbreeUpdate> EmbreeScene::update(const SceneModel& scene, const SceneCha
     return u;
 }
 
+bool EmbreeScene::baked_apart() const { return impl_->baked_apart(); }
+
 bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -289,10 +289,20 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    bool found = false;
+    if (impl_->baked_apart()) {  // then the top level, for hits nearer than this one
+        rtcIntersect1(impl_->baked, &context, &rh);
+        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+            found = true;
+            hit = Impl::to_hit(rh.ray.tfar, rh.hit.geomID, RTC_INVALID_GEOMETRY_ID, rh.hit.primID,
+                               rh.hit.u, rh.hit.v);
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;  // as Embree requires of every query
+        }
+    }
     rtcIntersect1(impl_->top, &context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    hit = impl_->to_hit(rh.ray.tfar, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.hit.u,
-                        rh.hit.v);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return found;
+    hit = Impl::to_hit(rh.ray.tfar, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.hit.u,
+                       rh.hit.v);
     return true;
 }
 
@@ -325,12 +335,25 @@ void EmbreeScene::intersect_coherent(const Ray* rays, int count, Hit* hits, bool
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
+    bool in_baked[8] = {};
+    if (impl_->baked_apart()) {  // as intersect() does, lane by lane
+        rtcIntersect8(valid, impl_->baked, &context, &rh);
+        for (int i = 0; i < count; ++i) {
+            in_baked[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+            if (in_baked[i])
+                hits[i] = Impl::to_hit(rh.ray.tfar[i], rh.hit.geomID[i], RTC_INVALID_GEOMETRY_ID,
+                                       rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]);
+            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        }
+    }
     rtcIntersect8(valid, impl_->top, &context, &rh);
     for (int i = 0; i < count; ++i) {
         found[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
         if (found[i])
-            hits[i] = impl_->to_hit(rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.instID[0][i],
-                                    rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]);
+            hits[i] = Impl::to_hit(rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.instID[0][i],
+                                   rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]);
+        else
+            found[i] = in_baked[i];
     }
 }
 
@@ -350,6 +373,10 @@ bool EmbreeScene::occluded(const Ray& ray) const {
     r.mask = 0xffffffffU;
     r.id = 0;
     r.flags = 0;
+    if (impl_->baked_apart()) {  // most occluders are baked: the top level only if it is not
+        rtcOccluded1(impl_->baked, &context, &r);
+        if (r.tfar < 0.0f) return true;
+    }
     rtcOccluded1(impl_->top, &context, &r);
     return r.tfar < 0.0f;
 }

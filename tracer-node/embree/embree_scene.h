@@ -5,7 +5,8 @@
 // coordinator saw them move or deform), have a scene of their own in object space, built at
 // high quality, instanced. A camera move within its recentring cell (scene_model.h) costs
 // nothing; a moved instanced mesh a top-level commit (with up to 4 000 baked triangles these
-// share the top level, so it rebuilds them too); a deformed instanced mesh a build of that
+// share the top level, so it rebuilds them too; above that the baked scene stands apart and
+// every query traverses it, then the top level); a deformed instanced mesh a build of that
 // mesh; a moved or deformed baked mesh a build of the baked BVH. What a
 // tracer renders never depends on its history: every update gives the bits a fresh build
 // gives (IncrementalUpdate.* tests).
@@ -48,6 +49,9 @@ public:
     bool occluded(const Ray& ray) const override;
     // One 8-ray packet with Embree's coherent traversal, where the device has it natively.
     void intersect_coherent(const Ray* rays, int count, Hit* hits, bool* found) const override;
+
+    // The baked triangles have a scene apart from the top level (queries traverse both).
+    bool baked_apart() const;
 
     struct Impl;
 
