@@ -61,13 +61,17 @@ done
 # rather than polling: a loop of grep and sleep every 0.2 s took 2-3 % of the two cores the
 # farm runs on.
 coordinator_status=""
+running=("${tracers[@]}")  # tracers not yet reaped: bash's wait names a reaped one an error
 while [ -z "$coordinator_status" ]; do
   ended="" status=0
-  wait -n -p ended "$coordinator" "${tracers[@]}" || status=$?
+  wait -n -p ended "$coordinator" "${running[@]}" || status=$?
   if [ "$ended" = "$coordinator" ] || [ -z "$ended" ]; then
     coordinator_status=$status
     continue
   fi
+  left=()
+  for p in "${running[@]}"; do [ "$p" = "$ended" ] || left+=("$p"); done
+  running=("${left[@]}")
   if ! grep -q "fps=" "$out/coordinator.log"; then
     for i in 0 1; do
       if [ "$ended" = "${tracers[$i]}" ]; then
