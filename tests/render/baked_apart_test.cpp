@@ -13,21 +13,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/scene/load/builtin_scenes.h"
+#include "tests/support/random_geometry.h"
 #include "tracer-node/embree/embree_scene.h"
 
 namespace pathfarm::baked_apart_test {
 namespace {
 
-constexpr int kWidth = Intersector::kCoherentWidth;
+using test::random_direction;
 
-Vec3 random_direction(std::mt19937& rng) {
-    std::normal_distribution<float> g;
-    for (;;) {
-        const Vec3 d(g(rng), g(rng), g(rng));
-        const float len = glm::length(d);
-        if (len > 1e-3f) return d / len;
-    }
-}
+constexpr int kWidth = Intersector::kCoherentWidth;
 
 Bounds3f instance_bounds(const SceneModel& scene, const Instance& inst) {
     Bounds3f b;

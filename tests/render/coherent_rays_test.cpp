@@ -15,11 +15,14 @@
 
 #include "common/scene/load/builtin_scenes.h"
 #include "common/scene/load/scene_loader.h"
+#include "tests/support/random_geometry.h"
 #include "tests/support/test_env.h"
 #include "tracer-node/embree/embree_scene.h"
 
 namespace pathfarm::coherent_rays_test {
 namespace {
+
+using test::random_direction;
 
 constexpr int kWidth = Intersector::kCoherentWidth;
 
@@ -33,15 +36,6 @@ bool same_hit(const Hit& a, const Hit& b) {
 // packet's arithmetic, an ulp from the single ray's, may pick either.
 bool tie(const Hit& a, const Hit& b) {
     return std::abs(a.t - b.t) <= 1e-6f * std::max(a.t, b.t) + 1e-7f;
-}
-
-Vec3 random_direction(std::mt19937& rng) {
-    std::normal_distribution<float> g;
-    for (;;) {
-        const Vec3 d(g(rng), g(rng), g(rng));
-        const float len = glm::length(d);
-        if (len > 1e-3f) return d / len;
-    }
 }
 
 struct Tally {

@@ -12,17 +12,12 @@
 #include <gtest/gtest.h>
 
 #include "common/render/light_bounds.h"
+#include "tests/support/random_geometry.h"
 
 namespace pathfarm::light_estimate_test {
 namespace {
 
-Vec3 random_direction(std::mt19937& rng) {
-    std::normal_distribution<float> g;
-    for (;;) {
-        const Vec3 v(g(rng), g(rng), g(rng));
-        if (glm::length(v) > 1e-3f) return glm::normalize(v);
-    }
-}
+using test::random_direction;
 
 struct Group {
     std::vector<Vec3> normals;

@@ -11,9 +11,12 @@
 #include <gtest/gtest.h>
 
 #include "common/render/light_tree.h"
+#include "tests/support/random_geometry.h"
 
 namespace pathfarm::light_tree_test {
 namespace {
+
+using test::random_direction;
 
 struct Emitter {
     Vec3 p[3];
@@ -24,14 +27,6 @@ struct Emitter {
         return triangle_light_bounds(p[0], p[1], p[2], normal, power, two_sided);
     }
 };
-
-Vec3 random_direction(std::mt19937& rng) {
-    std::normal_distribution<float> g;
-    for (;;) {
-        const Vec3 v(g(rng), g(rng), g(rng));
-        if (glm::length(v) > 1e-3f) return glm::normalize(v);
-    }
-}
 
 Emitter make_triangle(std::mt19937& rng, const Vec3& centre, const Vec3& normal, float size,
                       float power, bool two_sided) {
