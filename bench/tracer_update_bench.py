@@ -22,6 +22,7 @@ def main():
     text = run([f"{a.build}/bench/pathfarm-tracer-update-bench", SCENES, str(a.frames)], "tracer_update_bench",
                with_stderr=False)
     rows = list(csv.reader(io.StringIO(text)))
+    os.makedirs(a.out, exist_ok=True)
     path = os.path.join(a.out, "tracer_update.csv")
     with open(path, "w", newline="") as f:
         csv.writer(f).writerows(rows)
