@@ -1,11 +1,17 @@
-// Image files: PFM here, everything else through the OpenImageIO module (oiio_images.h), which
-// is loaded the first time a process reads or writes such a file.
+// Image files: PFM here, JPEG textures through libturbojpeg (jpeg_codec.h), everything else
+// through the OpenImageIO module (oiio_images.h), which is loaded the first time a process reads
+// or writes such a file. Loading it costs 0.3-0.4 s (about 170 000 relocations against some
+// 260 libraries): a scene whose textures are all JPEG (Sponza, the Damaged Helmet, Cesium Man)
+// no longer pays it.
 #include "common/film/image_io.h"
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <utility>
 
+#include "common/film/jpeg_codec.h"
 #include "common/film/oiio_images.h"
 #include "common/film/pfm.h"
 #include "common/film/tonemap.h"
@@ -83,11 +89,22 @@ Result<FloatImage> read_image(const std::string& path) {
 }
 
 Result<Rgba8Image> read_rgba8(const std::string& path) {
+    if (std::ifstream in{path, std::ios::binary}) {
+        unsigned char head[3] = {};
+        in.read(reinterpret_cast<char*>(head), sizeof head);
+        if (looks_like_jpeg(head, std::size_t(in.gcount()))) {
+            in.seekg(0);
+            const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), {}};
+            if (auto image = decode_jpeg_rgba8(bytes.data(), bytes.size()))
+                return std::move(*image);
+        }
+    }  // a file that cannot be opened: the module's error names it, as before
     return through_module([&](const OiioImages& m) { return m.read_rgba8(path); });
 }
 
 Result<Rgba8Image> decode_rgba8(const unsigned char* data, std::size_t size,
                                 const std::string& name_hint) {
+    if (auto image = decode_jpeg_rgba8(data, size)) return std::move(*image);
     return through_module(
         [&](const OiioImages& m) { return m.decode_rgba8(data, size, name_hint); });
 }

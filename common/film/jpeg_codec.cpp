@@ -56,4 +56,26 @@ Result<Rgb8Image> decode_jpeg(const std::string& bytes) {
     return img;
 }
 
+bool looks_like_jpeg(const unsigned char* data, std::size_t size) {
+    return size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF;
+}
+
+std::optional<Rgba8Image> decode_jpeg_rgba8(const unsigned char* data, std::size_t size) {
+    if (!looks_like_jpeg(data, size)) return std::nullopt;
+    Handle h(tjInitDecompress());
+    if (!h) return std::nullopt;
+    int width = 0, height = 0, subsampling = 0, colorspace = 0;
+    const auto bytes = static_cast<unsigned long>(size);
+    if (tjDecompressHeader3(h.get(), data, bytes, &width, &height, &subsampling, &colorspace) !=
+            0 ||
+        width <= 0 || height <= 0 || colorspace == TJCS_CMYK || colorspace == TJCS_YCCK)
+        return std::nullopt;
+    Rgba8Image img{width, height, std::vector<uint8_t>(std::size_t(width) * height * 4), 0};
+    // Flags 0: TJFLAG_FASTDCT and TJFLAG_FASTUPSAMPLE would give other bytes than OpenImageIO.
+    // A warning (a truncated or damaged file) fails too: OpenImageIO then decides, as before.
+    if (tjDecompress2(h.get(), data, bytes, img.rgba.data(), width, 0, height, TJPF_RGBA, 0) != 0)
+        return std::nullopt;
+    return img;
+}
+
 }  // namespace pathfarm

@@ -3,11 +3,14 @@
 // millisecond. Lossy; PNG and zstd floats remain for clients that need exact pixels.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/base/result.h"
+#include "common/film/image_io.h"
 
 namespace pathfarm {
 
@@ -21,5 +24,14 @@ struct Rgb8Image {
 };
 
 Result<Rgb8Image> decode_jpeg(const std::string& bytes);
+
+// Whether bytes start as a JPEG file does (its SOI marker and the next marker's first byte).
+bool looks_like_jpeg(const unsigned char* data, std::size_t size);
+
+// A JPEG texture as RGBA (alpha 255), decoded as OpenImageIO's JPEG reader decodes it: the
+// same libjpeg-turbo with its defaults (the accurate integer DCT, smooth chroma upsampling), so
+// the same bytes (JpegTexture.* compares them). Nothing where TurboJPEG cannot decode it
+// cleanly (CMYK, damage it only warns about): such files go to OpenImageIO, as all did before.
+std::optional<Rgba8Image> decode_jpeg_rgba8(const unsigned char* data, std::size_t size);
 
 }  // namespace pathfarm
