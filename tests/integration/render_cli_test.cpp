@@ -160,6 +160,26 @@ TEST(RenderCli, AMissingImageModuleIsAClearErrorAndPfmNeedsNone) {
     EXPECT_EQ(exr.output.find("samples_per_s="), std::string::npos) << exr.output;
 }
 
+// JPEG textures are decoded without the module (jpeg_codec.h): a glTF and an OBJ scene whose
+// textures are all JPEG render with it gone, with no texture left out, and the same pixels.
+TEST(RenderCli, JpegTexturedScenesNeedNoImageModule) {
+    PF_REQUIRE_SCENES(scenes);
+    const std::string dir = test::scratch_dir();
+    const std::string env = "PATHFARM_OIIO_MODULE=" + dir + "/gone.so ";
+    for (const char* scene : {"/cesium-man/CesiumMan.gltf", "/dabrovic-sponza/sponza.obj"}) {
+        const std::string args =
+            "--scene " + scenes + scene + " --spp 1 --width 24 --height 16 --out " + dir;
+        const CliRun without = run_cli(args + "/without.pfm", (env + PATHFARM_RENDER_EXE).c_str());
+        ASSERT_EQ(without.exit_code, 0) << scene << ": " << without.output;
+        EXPECT_EQ(without.output.find("not loaded"), std::string::npos) << without.output;
+        EXPECT_EQ(without.output.find("not decoded"), std::string::npos) << without.output;
+        ASSERT_EQ(run_cli(args + "/with.pfm").exit_code, 0) << scene;
+        auto a = read_image(dir + "/without.pfm"), b = read_image(dir + "/with.pfm");
+        ASSERT_TRUE(a.ok() && b.ok()) << scene;
+        EXPECT_EQ(a->rgb, b->rgb) << scene;
+    }
+}
+
 TEST(RenderCli, AnimatedSceneRendersAtTheRequestedTime) {
     PF_REQUIRE_SCENES(scenes);
     const std::string dir = test::scratch_dir();
