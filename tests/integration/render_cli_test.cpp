@@ -161,7 +161,8 @@ TEST(RenderCli, AMissingImageModuleIsAClearErrorAndPfmNeedsNone) {
 }
 
 // JPEG textures are decoded without the module (jpeg_codec.h): a glTF and an OBJ scene whose
-// textures are all JPEG render with it gone, with no texture left out, and the same pixels.
+// textures are all JPEG render with it gone, with no texture left out, and the same pixels. The
+// barn lamp's KTX2 textures are dropped as before, without asking for the module.
 TEST(RenderCli, JpegTexturedScenesNeedNoImageModule) {
     PF_REQUIRE_SCENES(scenes);
     const std::string dir = test::scratch_dir();
@@ -178,6 +179,14 @@ TEST(RenderCli, JpegTexturedScenesNeedNoImageModule) {
         ASSERT_TRUE(a.ok() && b.ok()) << scene;
         EXPECT_EQ(a->rgb, b->rgb) << scene;
     }
+    const CliRun lamp = run_cli("--scene " + scenes +
+                                    "/anisotropy-barn-lamp/AnisotropyBarnLamp.gltf --spp 1 "
+                                    "--width 16 --height 16 --out " +
+                                    dir + "/lamp.pfm",
+                                (env + PATHFARM_RENDER_EXE).c_str());
+    ASSERT_EQ(lamp.exit_code, 0) << lamp.output;
+    EXPECT_NE(lamp.output.find("a KTX2 image"), std::string::npos) << lamp.output;
+    EXPECT_EQ(lamp.output.find("module"), std::string::npos) << lamp.output;
 }
 
 TEST(RenderCli, AnimatedSceneRendersAtTheRequestedTime) {

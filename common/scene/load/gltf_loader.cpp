@@ -1,6 +1,6 @@
 // glTF 2.0 import through tinygltf: primitives as meshes, the node hierarchy, perspective cameras.
-// Images are decoded by OpenImageIO; one that cannot be decoded (e.g. KTX2) costs that texture with
-// a warning.
+// Images are decoded through image_io.h (JPEG by libturbojpeg, others by OpenImageIO); one that
+// cannot be decoded (e.g. KTX2) costs that texture with a warning.
 #include <filesystem>
 
 #include <spdlog/spdlog.h>

@@ -2,6 +2,7 @@
 #include "common/film/image_io.h"
 
 #include <cmath>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -54,6 +55,24 @@ TEST(ImageIo, PngIsWrittenAndBadPathsAreErrors) {
     const auto missing = read_image(dir + "/none.exr");
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().message.find("none.exr"), std::string::npos);
+}
+
+// KTX2 has no decoder here (nor in OpenImageIO): a one-line error naming the image, from the
+// file's identifier, whatever its name or extension.
+TEST(ImageIo, Ktx2IsAnErrorNamingTheImage) {
+    const unsigned char ktx2[16] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                    '0',  0xBB, '\r', '\n', 0x1A, '\n'};
+    const auto decoded = decode_rgba8(ktx2, sizeof ktx2, "lamp_normal.png");
+    ASSERT_FALSE(decoded.ok());
+    EXPECT_NE(decoded.error().message.find("lamp_normal.png: a KTX2 image"), std::string::npos)
+        << decoded.error().message;
+    const std::string path = test::scratch_dir() + "/texture.bin";
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(ktx2), sizeof ktx2);
+    const auto read = read_rgba8(path);
+    ASSERT_FALSE(read.ok());
+    EXPECT_NE(read.error().message.find(path + ": a KTX2 image"), std::string::npos)
+        << read.error().message;
+    EXPECT_EQ(read.error().message.find('\n'), std::string::npos);
 }
 
 TEST(ImageCompare, RmseAndRelativeMse) {
