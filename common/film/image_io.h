@@ -1,4 +1,5 @@
-// Image files through OpenImageIO, which stays behind this small API (STYLE.md §2.5).
+// Image files through OpenImageIO (PFM and JPEG textures without it), which stays behind this
+// small API (STYLE.md §2.5).
 #pragma once
 
 #include <cstdint>

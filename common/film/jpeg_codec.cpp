@@ -13,6 +13,8 @@ struct HandleCloser {
 };
 using Handle = std::unique_ptr<void, HandleCloser>;
 
+constexpr std::size_t kMaxTexturePixels = std::size_t(1) << 28;  // 16384 x 16384, 1 GiB of RGBA
+
 }  // namespace
 
 Result<std::string> encode_jpeg(int width, int height, const std::vector<uint8_t>& rgb,
@@ -66,9 +68,12 @@ std::optional<Rgba8Image> decode_jpeg_rgba8(const unsigned char* data, std::size
     if (!h) return std::nullopt;
     int width = 0, height = 0, subsampling = 0, colorspace = 0;
     const auto bytes = static_cast<unsigned long>(size);
+    // Past kMaxTexturePixels OpenImageIO decides too, as before (a damaged header can claim
+    // 65535 x 65535: 17 GB of RGBA).
     if (tjDecompressHeader3(h.get(), data, bytes, &width, &height, &subsampling, &colorspace) !=
             0 ||
-        width <= 0 || height <= 0 || colorspace == TJCS_CMYK || colorspace == TJCS_YCCK)
+        width <= 0 || height <= 0 || std::size_t(width) * std::size_t(height) > kMaxTexturePixels ||
+        colorspace == TJCS_CMYK || colorspace == TJCS_YCCK)
         return std::nullopt;
     Rgba8Image img{width, height, std::vector<uint8_t>(std::size_t(width) * height * 4), 0};
     // Flags 0: TJFLAG_FASTDCT and TJFLAG_FASTUPSAMPLE would give other bytes than OpenImageIO.

@@ -1,6 +1,7 @@
-// JPEG frames for clients through libturbojpeg: the default codec of the frame stream, since a
+// JPEG through libturbojpeg: frames for clients (the default codec of the frame stream, since a
 // 320x180 frame is ~10 KB as JPEG against ~100 KB as PNG and encodes in well under a
-// millisecond. Lossy; PNG and zstd floats remain for clients that need exact pixels.
+// millisecond; lossy, so PNG and zstd floats remain for clients that need exact pixels), and
+// JPEG textures without loading the OpenImageIO module (image_io.cpp).
 #pragma once
 
 #include <cstddef>

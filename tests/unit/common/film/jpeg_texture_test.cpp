@@ -1,7 +1,8 @@
 // JPEG textures through libturbojpeg (jpeg_codec.h) instead of the OpenImageIO module: the same
 // bytes as OpenImageIO gives, for every JPEG of the shared scenes and for random images in every
-// chroma subsampling and quality; what TurboJPEG cannot decode cleanly (CMYK, a truncated file)
-// is left to OpenImageIO, which then answers as it did before.
+// chroma subsampling and quality; what TurboJPEG cannot decode cleanly (CMYK, a truncated file,
+// a header claiming more than 2^28 pixels) is left to OpenImageIO, which answers as before.
+#include <sys/resource.h>
 #include <turbojpeg.h>
 
 #include <algorithm>
@@ -113,7 +114,7 @@ TEST(JpegTexture, RandomImagesInEverySubsamplingDecodeAsOpenImageIoDecodesThem) 
     }
 }
 
-TEST(JpegTexture, CmykAndTruncatedFilesAreLeftToOpenImageIo) {
+TEST(JpegTexture, CmykTruncatedAndOversizedFilesAreLeftToOpenImageIo) {
     const int w = 24, h = 16;
     std::vector<unsigned char> cmyk(std::size_t(w) * h * 4);
     for (std::size_t i = 0; i < cmyk.size(); ++i)
@@ -132,6 +133,21 @@ TEST(JpegTexture, CmykAndTruncatedFilesAreLeftToOpenImageIo) {
     const auto cut_module = module().decode_rgba8(cut.data(), cut.size(), "t.jpg");
     const auto cut_api = decode_rgba8(cut.data(), cut.size(), "t.jpg");
     EXPECT_EQ(cut_module.ok(), cut_api.ok());
+
+    // A header claiming 20000 x 20000 pixels (a damaged or hostile file): left to OpenImageIO
+    // before anything is allocated for it (1.6 GB of RGBA; the process's peak memory shows it).
+    std::vector<unsigned char> huge = whole;
+    const unsigned char sof0[] = {0xFF, 0xC0};
+    const auto sof = std::search(huge.begin(), huge.end(), std::begin(sof0), std::end(sof0));
+    ASSERT_NE(sof, huge.end()) << "a baseline JPEG has an SOF0 marker";
+    const std::size_t at = std::size_t(sof - huge.begin()) + 5;  // height, then width, big-endian
+    for (int k = 0; k < 4; ++k)
+        huge[at + k] = k % 2 == 0 ? 0x4E : 0x20;  // 0x4E20 = 20000
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    EXPECT_FALSE(decode_jpeg_rgba8(huge.data(), huge.size()).has_value());
+    getrusage(RUSAGE_SELF, &after);
+    EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 100 * 1024) << "kB of peak memory";
 
     const unsigned char png_start[] = {0x89, 'P', 'N', 'G'};
     EXPECT_FALSE(looks_like_jpeg(png_start, sizeof png_start));
