@@ -1,4 +1,5 @@
-// First-hit planes: half floats through glm's packHalf1x16, then one zstd frame (float_codec).
+// First-hit planes: half floats (half.h packs them as glm's packHalf1x16 does, glm unpacks
+// them), then one zstd frame (float_codec).
 #include "common/film/first_hits.h"
 
 #include <cstring>
@@ -6,6 +7,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "common/film/float_codec.h"
+#include "common/math/half.h"
 
 namespace pathfarm {
 namespace {
@@ -37,18 +39,18 @@ std::string encode_first_hits(const FirstHit* hits, std::size_t count) {
         put(raw, at, hits[i].instance);
     for (int c = 0; c < 3; ++c)
         for (std::size_t i = 0; i < count; ++i)
-            put(raw, at, uint16_t(glm::packHalf1x16(hits[i].normal[c])));
+            put(raw, at, uint16_t(half_bits(hits[i].normal[c])));
     for (int c = 0; c < 3; ++c)
         for (std::size_t i = 0; i < count; ++i)
-            put(raw, at, uint16_t(glm::packHalf1x16(hits[i].albedo[c])));
+            put(raw, at, uint16_t(half_bits(hits[i].albedo[c])));
     for (std::size_t i = 0; i < count; ++i)
         put(raw, at, uint8_t(hits[i].flags));
     for (std::size_t i = 0; i < count; ++i)
         put(raw, at, hits[i].primitive);
     for (std::size_t i = 0; i < count; ++i)
-        put(raw, at, uint16_t(glm::packHalf1x16(hits[i].u)));
+        put(raw, at, uint16_t(half_bits(hits[i].u)));
     for (std::size_t i = 0; i < count; ++i)
-        put(raw, at, uint16_t(glm::packHalf1x16(hits[i].v)));
+        put(raw, at, uint16_t(half_bits(hits[i].v)));
     return compress_bytes(raw.data(), raw.size());
 }
 

@@ -1,0 +1,35 @@
+// Float to IEEE half bits exactly as glm::packHalf1x16 rounds (half way rounds away from zero,
+// not to even; overflow gives infinity; NaN stays NaN), without its branches: the rounding
+// branch is a coin toss wherever values vary, and first-hit planes convert eight values a pixel
+// (first_hits.cpp). 320x180 x 8 values: glm 2.8 ms where every value differs (textures, curved
+// surfaces), 1.3 ms where a quarter do, 0.77 ms in flat runs of 50; this 0.69 ms in all three.
+// Checked against glm for every one of the 2^32 floats once (2026-12-07: no difference), and on
+// every exponent and rounding pattern by HalfBits.* each run.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+
+namespace pathfarm {
+
+inline uint16_t half_bits(float f) {
+    uint32_t i;
+    std::memcpy(&i, &f, sizeof i);
+    const uint32_t sign = (i >> 16) & 0x8000u;
+    const int32_t e = int32_t((i >> 23) & 0xffu) - (127 - 15);  // the half's biased exponent
+    const uint32_t m = i & 0x7fffffu;
+    // A normal half: the rounding carry may ripple into the exponent, which the addition keeps;
+    // past the largest exponent it is infinity.
+    const uint32_t rounded = m + ((m & 0x1000u) << 1);
+    const uint32_t normal = std::min((uint32_t(e) << 10) + (rounded >> 13), 0x7c00u);
+    // Below the normal range: the significand with its hidden bit, shifted down (zero far below).
+    const uint32_t d = (m | 0x800000u) >> uint32_t(std::min(1 - e, 31));
+    const uint32_t denormal = (d + ((d & 0x1000u) << 1)) >> 13;
+    // Infinity and NaN (a NaN whose kept bits are all zero keeps one, or it would be infinity).
+    const uint32_t kept = m >> 13;
+    const uint32_t special = 0x7c00u | kept | uint32_t(m != 0 && kept == 0);
+    return uint16_t(sign | (e <= 0 ? denormal : e == 255 - (127 - 15) ? special : normal));
+}
+
+}  // namespace pathfarm
