@@ -23,8 +23,9 @@ inline uint16_t half_bits(float f) {
     // past the largest exponent it is infinity.
     const uint32_t rounded = m + ((m & 0x1000u) << 1);
     const uint32_t normal = std::min((uint32_t(e) << 10) + (rounded >> 13), 0x7c00u);
-    // Below the normal range: the significand with its hidden bit, shifted down (zero far below).
-    const uint32_t d = (m | 0x800000u) >> uint32_t(std::min(1 - e, 31));
+    // Below the normal range: the significand with its hidden bit, shifted down (zero far below;
+    // the shift is computed for every value and clamped so that none is undefined).
+    const uint32_t d = (m | 0x800000u) >> uint32_t(std::clamp(1 - e, 0, 31));
     const uint32_t denormal = (d + ((d & 0x1000u) << 1)) >> 13;
     // Infinity and NaN (a NaN whose kept bits are all zero keeps one, or it would be infinity).
     const uint32_t kept = m >> 13;
