@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The demo as a user runs it (scripts/demo.sh: builtin:default's game at a held 10 frames/s,
 two 1-thread tracers, a headless client turning), two builds (or one build with two sets of
-coordinator or tracer arguments: --args-a/--args-b, --tracer-args-a/--tracer-args-b)
+coordinator or tracer arguments: --args-a/--args-b, --tracer-args-a/--tracer-args-b, or demo
+settings: --env-a/--env-b)
 alternated round by round: the frame rate, what workload scaling chose (render size, spp,
 roulette), each tracer's share of the wall time spent rendering and updating its scene, the
 client's input latency, and the display stage's denoiser time (median, p95) and whole time
@@ -18,9 +19,10 @@ import sys
 from bench_common import ROOT, quantile, write_csv
 
 
-def demo(bin_dir, out_dir, frames, coordinator_args="", tracer_args=""):
+def demo(bin_dir, out_dir, frames, coordinator_args="", tracer_args="", demo_env=()):
     env = dict(os.environ, BIN=bin_dir, OUT=out_dir, FRAMES=str(frames),
                COORDINATOR_ARGS=coordinator_args, TRACER_ARGS=tracer_args)
+    env.update(kv.split("=", 1) for kv in demo_env)
     text = subprocess.run(["bash", os.path.join(ROOT, "scripts", "demo.sh")], env=env,
                           capture_output=True, text=True)
     if text.returncode != 0:
@@ -74,7 +76,8 @@ set key outside right
 set yrange [0:*]
 set ylabel 'percent of wall time / ms / thousand pixels'
 plot '{out}/demo_ab.csv' skip 1 using 6:xtic(1) title 'tracer rendering %', '' skip 1 using 7 title 'tracer updating %', \\
-     '' skip 1 using 8 title 'latency p50 ms', '' skip 1 using ($3/1000) title 'render pixels / 1000'
+     '' skip 1 using 8 title 'latency p50 ms', '' skip 1 using ($3/1000) title 'render pixels / 1000', \\
+     '' skip 1 using 12 title 'denoise p95 ms', '' skip 1 using 13 title 'display stage p95 ms'
 """
     subprocess.run(["gnuplot"], input=script, text=True, check=True)
 
@@ -88,6 +91,10 @@ def main():
                    "tree twice with different arguments compares options)")
     p.add_argument("--tracer-args-a", default="", help="more tracer arguments for A")
     p.add_argument("--tracer-args-b", default="", help="more tracer arguments for B")
+    p.add_argument("--env-a", action="append", default=[], metavar="KEY=VALUE",
+                   help="a setting of scripts/demo.sh for A (e.g. TRACER_NICE=0); repeatable")
+    p.add_argument("--env-b", action="append", default=[], metavar="KEY=VALUE",
+                   help="a setting of scripts/demo.sh for B")
     p.add_argument("--label-a", default="before")
     p.add_argument("--label-b", default="after")
     p.add_argument("--rounds", type=int, default=3)
@@ -101,9 +108,10 @@ def main():
     work = os.path.join(ROOT, "bench", "cache", "demo_ab")
     rows, runs = [], {a.label_a: [], a.label_b: []}
     for r in range(a.rounds):  # alternated so machine noise hits both alike
-        for label, tree, args, tracer_args in ((a.label_a, a.a, a.args_a, a.tracer_args_a),
-                                               (a.label_b, a.b, a.args_b, a.tracer_args_b)):
-            m = demo(tree, os.path.join(work, f"{label}_{r}"), a.frames, args, tracer_args)
+        for label, tree, args, tracer_args, env in (
+                (a.label_a, a.a, a.args_a, a.tracer_args_a, a.env_a),
+                (a.label_b, a.b, a.args_b, a.tracer_args_b, a.env_b)):
+            m = demo(tree, os.path.join(work, f"{label}_{r}"), a.frames, args, tracer_args, env)
             runs[label].append(m)
             rows.append([label, r] + [round(m[k], 3) for k in KEYS])
             print(label, r, " ".join(f"{k}={m[k]:.2f}" for k in KEYS), flush=True)

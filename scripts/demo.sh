@@ -9,7 +9,9 @@
 # BACKENDS (the two tracers' backends, default "embree embree"; "embree opencl" mixes them),
 # SCENE (default builtin:default), OUT (default out/), BIN (a build tree to run instead of building build/release: A/B runs,
 # bench/demo_ab.py), COORDINATOR_ARGS (more coordinator arguments, e.g. "--denoise off"),
-# TRACER_ARGS (more tracer arguments, e.g. "--log-level debug"), HTTP_PORT (the browser
+# TRACER_ARGS (more tracer arguments, e.g. "--log-level debug"), TRACER_NICE (the tracers'
+# nice value, default 10: they share this machine's cores with the coordinator, whose display
+# stage is on the way from an input to the screen; 0 to compare), HTTP_PORT (the browser
 # client's port, default 0: any; its URL is printed).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -52,7 +54,8 @@ names=(tracer-a tracer-b)
 tracers=()
 for i in 0 1; do
   "$bin/tracer-node/pathfarm-tracer" --coordinator "127.0.0.1:$tracer_port" --name "${names[$i]}" \
-    --backend "${backends[$i]:-embree}" --threads 1 --max-reconnects 0 ${TRACER_ARGS:-} > "$out/${names[$i]}.log" 2>&1 &
+    --backend "${backends[$i]:-embree}" --threads 1 --max-reconnects 0 --nice "${TRACER_NICE:-10}" \
+    ${TRACER_ARGS:-} > "$out/${names[$i]}.log" 2>&1 &
   pids+=($!)
   tracers+=($!)
 done

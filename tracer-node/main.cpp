@@ -1,6 +1,10 @@
 // pathfarm-tracer command line: the tracer daemon.
+#include <sys/resource.h>
+
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -15,6 +19,21 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 void request_stop(int) { g_stop = true; }
+
+// --nice: called before any thread starts, since Linux keeps a nice value per thread and
+// threads inherit their creator's (the render arena, the tile sender and the network thread
+// alike). A process started nicer than asked stays so. False (said on stderr) on failure.
+bool run_at_nice(int nice) {
+    errno = 0;
+    const int inherited = getpriority(PRIO_PROCESS, 0);  // -1 is also a valid value
+    if (errno != 0 || nice <= inherited) return true;
+    if (setpriority(PRIO_PROCESS, 0, nice) != 0) {
+        std::fprintf(stderr, "pathfarm-tracer: --nice %d: %s\n", nice, std::strerror(errno));
+        return false;
+    }
+    spdlog::info("running at nice {}: other work on this machine comes first", nice);
+    return true;
+}
 
 }  // namespace
 
@@ -44,8 +63,15 @@ int main(int argc, char** argv) {
     app.add_option("--max-reconnects", o.max_reconnects,
                    "Give up after this many failed connections (-1: never)")
         ->capture_default_str();
+    int nice = 0;
+    app.add_option("--nice", nice,
+                   "Run at CPU nice value N (0-19; a process already nicer stays so): on a "
+                   "machine shared with the coordinator, its display stage comes first")
+        ->check(CLI::Range(0, 19))
+        ->capture_default_str();
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-tracer"))
         return *exit_code;
+    if (!run_at_nice(nice)) return 2;
     // Each frame allocates the buffers the last one freed: keep them mapped (memory.h).
     if (!pathfarm::keep_freed_memory()) spdlog::debug("the C library keeps its own malloc tuning");
     auto endpoint = pathfarm::parse_endpoint("--coordinator", coordinator);

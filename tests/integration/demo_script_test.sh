@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # scripts/demo.sh, the README's first command, run on an existing build tree (BIN): a short run
-# ends with its summary and its frames, and a tracer that cannot start (an unknown flag in
-# TRACER_ARGS) makes it fail at once, naming the tracer and the flag, instead of leaving the
-# coordinator waiting for it for ever.
+# ends with its summary and its frames, its tracers below the coordinator's priority, and a
+# tracer that cannot start (an unknown flag in TRACER_ARGS) makes it fail at once, naming the
+# tracer and the flag, instead of leaving the coordinator waiting for it for ever.
 # Usage: demo_script_test.sh <source dir> <build dir>
 set -uo pipefail
 src="$1" bin="$2"
@@ -17,6 +17,8 @@ grep -q "^demo: wrote" <<< "$out" || fail "no summary line: $out"
 # bugs, even when the run succeeds.
 ! grep -q "demo.sh: line [0-9]*:" <<< "$out" || fail "the script itself complained: $out"
 grep -q "^tracer-a: 8 frames" <<< "$out" || fail "tracer-a rendered other than 8 frames: $out"
+# The tracers share the machine with the coordinator: they run below it (TRACER_NICE).
+grep -q "running at nice 10" "$tmp/ok/tracer-a.log" || fail "tracer-a not niced: $(head -3 "$tmp/ok/tracer-a.log")"
 frames="$(ls "$tmp/ok/frames" | wc -l)"
 [ "$frames" -eq 8 ] || fail "$frames frames written, 8 expected"
 

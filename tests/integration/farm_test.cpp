@@ -274,6 +274,12 @@ TEST(FarmCli, BadInputIsAOneLineError) {
     EXPECT_EQ(bad_hiccup.wait(10s), std::optional<int>(2));
     EXPECT_NE(test::read_file(farm.dir + "/d.log").find("--hiccup-p 1.5: must be in [0, 1]"),
               std::string::npos);
+    Process bad_nice({kTracer, "--coordinator", "127.0.0.1:1", "--nice", "25"},
+                     farm.dir + "/n.log");
+    EXPECT_EQ(bad_nice.wait(10s), std::optional<int>(2));
+    EXPECT_NE(test::read_file(farm.dir + "/n.log").find("--nice: Value 25 not in range 0 to 19"),
+              std::string::npos)
+        << test::read_file(farm.dir + "/n.log");
     // The client took a NaN turn rate (its player stood still) and negative frame counts.
     for (const auto& [flag, value, message] :
          std::vector<std::array<std::string, 3>>{{"--turn-rate", "nan", "must be finite"},
@@ -324,6 +330,40 @@ TEST(TracerDaemon, GivingUpOnAnUnreachableCoordinatorIsAFailureAFinishedSessionI
     Process& tracer = farm.add_tracer("t", {"--max-reconnects", "0"});
     ASSERT_EQ(farm.finish(), 0);
     EXPECT_EQ(tracer.wait(20s), std::optional<int>(0)) << test::read_file(farm.dir + "/t.log");
+}
+
+// --nice lowers every thread of a rendering tracer, the render arena's and the network
+// thread's included: Linux keeps a nice value per thread, so one set after a thread started
+// would miss it.
+TEST(TracerDaemon, NiceReachesEveryThreadOfARenderingTracer) {
+    Farm farm;
+    farm.start({"--frames", "100000", "--min-tracers", "1"});
+    Process tracer({kTracer, "--coordinator", "127.0.0.1:" + std::to_string(farm.tracer_port),
+                    "--name", "t", "--threads", "2", "--nice", "7"},
+                   farm.dir + "/t.log");
+    // Rendering has started (and with it the arena's worker) once frames come back.
+    for (auto waited = 0ms; waited < 30s && farm.csv("tracers.csv").size() < 3; waited += 50ms)
+        std::this_thread::sleep_for(50ms);
+    ASSERT_GE(farm.csv("tracers.csv").size(), 3u) << test::read_file(farm.dir + "/t.log");
+    std::map<std::string, int> nice_by_thread;  // "tid (name)" -> nice
+    const std::string tasks = "/proc/" + std::to_string(tracer.pid()) + "/task";
+    for (const auto& task : std::filesystem::directory_iterator(tasks)) {
+        const std::string stat = test::read_file(task.path().string() + "/stat");
+        const auto name_end = stat.rfind(')');
+        ASSERT_NE(name_end, std::string::npos) << stat;
+        std::istringstream fields(stat.substr(name_end + 2));  // from field 3, the state
+        std::string field;
+        for (int k = 3; k <= 19; ++k)
+            fields >> field;  // field 19: nice
+        nice_by_thread[task.path().filename().string() + " " +
+                       stat.substr(stat.find('('), name_end - stat.find('(') + 1)] =
+            std::stoi(field);
+    }
+    // The main thread, the network thread, the tile sender and the arena's worker at least.
+    EXPECT_GE(nice_by_thread.size(), 4u);
+    for (const auto& [thread, nice] : nice_by_thread)
+        EXPECT_EQ(nice, 7) << thread;
+    EXPECT_TRUE(test::wait_for_text(farm.dir + "/t.log", "running at nice 7", 1s).has_value());
 }
 
 // Injected hiccups (for live balancing benchmarks) repeat for a seed and hit the asked fraction.

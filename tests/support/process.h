@@ -19,6 +19,7 @@ public:
     Process& operator=(const Process&) = delete;
 
     bool started() const { return pid_ > 0; }
+    pid_t pid() const { return pid_; }
     // The exit code, or nullopt if it did not exit within the timeout (or died by a signal:
     // -signal).
     std::optional<int> wait(std::chrono::milliseconds timeout);
