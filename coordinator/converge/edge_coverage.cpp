@@ -86,7 +86,7 @@ uint64_t luminance_key(float luminance, uint32_t pixel) {
 // surface's alone), or else among its 3x3: the median, since a pixel beside the edge may hold a
 // sample of the other side too. False when a side has no pixel there.
 bool EdgeCoverage::sides(const FloatImage& image, const Surfaces& s, int x, int y, Rgb& behind,
-                         Rgb& front) const {
+                         Rgb& front, float behind_range[2]) const {
     const std::size_t i = std::size_t(y) * width_ + x;
     // [side][0: interior of the 5x5, 1: any of the 3x3]; ties in luminance broken by the
     // pixel's index (luminance_key): the same choice on every run.
@@ -115,6 +115,11 @@ bool EdgeCoverage::sides(const FloatImage& image, const Surfaces& s, int x, int 
         std::nth_element(f, f + n / 2, f + n);
         const std::size_t j = uint32_t(f[n / 2]);
         *out[side] = image.pixel(int(j % std::size_t(width_)), int(j / std::size_t(width_)));
+        if (side == 0) {  // the behind side's least and largest luminance
+            const auto [least, most] = std::minmax_element(f, f + n);
+            behind_range[0] = luminance_[uint32_t(*least)];
+            behind_range[1] = luminance_[uint32_t(*most)];
+        }
     }
     return true;
 }
@@ -124,10 +129,21 @@ Rgb EdgeCoverage::blended(const FloatImage& image, const Surfaces& s, std::size_
     const int x = int(i % std::size_t(width_)), y = int(i / std::size_t(width_));
     const Rgb own = image.pixel(x, y);
     Rgb behind, front;
-    if (!sides(image, s, x, y, behind, front)) return own;
-    // Which side the pixel's sample saw: the nearer in luminance.
+    float range[2];
+    if (!sides(image, s, x, y, behind, front, range)) return own;
+    // Which side the pixel's sample saw: the nearer in luminance, or, for a pixel of one
+    // frame (its own samples alone), the front when no pixel of its side in the window is
+    // nearly as far from that side's median towards the front: a sample of a darker rim (a
+    // limb's edge) can be nearer the background's light than the front's median and still be
+    // no light the background shows (Cesium Man's black sky). Not over frames: a mix of
+    // samples lies between the sides too.
     const float l = luminance(own);
-    if (std::abs(l - luminance(front)) >= std::abs(l - luminance(behind))) return own;
+    const float lb = luminance(behind), lf = luminance(front);
+    const float margin = 0.02f * lb + 1e-3f;
+    const bool beyond_behind =
+        frames <= 1.0f && ((lf > lb && l > lb + 2.0f * (range[1] - lb) + margin) ||
+                           (lf < lb && l < lb - 2.0f * (lb - range[0]) - margin));
+    if (!beyond_behind && std::abs(l - lf) >= std::abs(l - lb)) return own;
     const float c = std::min(0.5f, o_.coverage_per_side * float(across_[i]));
     const Rgb mix = (1.0f - c) * behind + c * front;
     const float w = o_.model_frames / (o_.model_frames + std::max(1.0f, frames));

@@ -6,7 +6,8 @@
 // the two centres), and the wavelet keeps it (it filters each side on its own, and its
 // luminance edge stops at the outlier): on the Cesium Man path one such pixel was 22 % of a
 // frame's relative MSE (docs/denoise.md). So where such a pixel's light is nearer in luminance
-// to the object's than to its own side's, it is taken as a sample of the object and blended
+// to the object's than to its own side's (or, in its first frame, lies beyond any light its
+// own side shows nearby, towards the object's), it is taken as a sample of the object and blended
 // towards the mix (1 - c) B + c F, with B and F the two sides' light read from pixels nearby
 // that are not on the edge (the median in luminance: a pixel beside the edge may hold such a
 // sample too) and c the object's mean coverage, 1/8 per edge it lies across. The blend weight
@@ -55,8 +56,9 @@ private:
         const uint32_t* surface;
         const float* distance;
     };
-    bool sides(const FloatImage& image, const Surfaces& s, int x, int y, Rgb& behind,
-               Rgb& front) const;
+    // behind_range: the least and largest luminance among the pixels behind's median is of.
+    bool sides(const FloatImage& image, const Surfaces& s, int x, int y, Rgb& behind, Rgb& front,
+               float behind_range[2]) const;
     Rgb blended(const FloatImage& image, const Surfaces& s, std::size_t i, float frames) const;
 
     EdgeCoverageOptions o_;

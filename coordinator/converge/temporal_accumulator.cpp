@@ -212,8 +212,14 @@ struct Reprojection {
     bool valid = false;
     int hx = 0, hy = 0;  // the history pixel
     bool object_moves = false;
+    bool deforms = false;    // its own instance deformed this frame (object_moves too)
     Vec2 source{kNoSource};  // where the surface was in the last frame's pixels, if on screen
 };
+
+// The floor on f where the camera or the object moved (ConvergeOptions).
+float least_blend(const Reprojection& r, const ConvergeOptions& o) {
+    return r.deforms ? o.deformed_floor : r.object_moves ? o.object_floor : o.camera_floor;
+}
 
 Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
                        const CameraRays& camera_ray, const FrameView& prev, const FrameView& view,
@@ -225,6 +231,7 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
     const uint8_t flags = inst == GBuffer::kNoInstance ? 0 : m.flags_of(inst);
     Reprojection r;
     r.object_moves = (flags & Motion::kMoving) || (m.near_now && m.near_now[i]);
+    r.deforms = (flags & Motion::kDeformed) != 0;
     float px = x + 0.5f, py = y + 0.5f;
     bool on_screen = true;
     float expected = g.distance[i];
@@ -365,8 +372,7 @@ ConvergeStats TemporalAccumulator::blend(FloatImage& image, FrameView view) {
                         history = clamp_history(history, neighbourhood_, i,
                                                 moments_[std::size_t(r.hy) * w + r.hx],
                                                 o_.clamp_sigmas, !view.gbuffer.hit(i));
-                        const float floor = r.object_moves ? o_.object_floor : o_.camera_floor;
-                        k = std::min(k, s / floor);
+                        k = std::min(k, s / least_blend(r, o_));
                     }
                     const float f = s / k;
                     const Rgb blended = history + f * (c - history);

@@ -44,7 +44,8 @@ struct FrameView {
 };
 
 struct ConvergeOptions {
-    float object_floor = 0.3f;      // least f on pixels of moving or deforming instances
+    float object_floor = 0.3f;      // least f on pixels of moving instances and beside them
+    float deformed_floor = 0.4f;    // least f on pixels of instances deforming this frame
     float camera_floor = 0.1f;      // least f on still surfaces seen by a moving camera
     float clamp_sigmas = 1.5f;      // history clamp: neighbourhood mean +- this many deviations
     float depth_tolerance = 0.03f;  // relative distance mismatch that rejects history
