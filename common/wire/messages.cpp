@@ -13,7 +13,6 @@ namespace pathfarm::wire {
 namespace {
 
 namespace pb = ::pathfarm::wire::v1;
-constexpr uint32_t kMaxImageSide = 16384;
 
 pb::Envelope envelope() {
     pb::Envelope e;

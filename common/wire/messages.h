@@ -20,6 +20,9 @@
 
 namespace pathfarm::wire {
 
+// The largest frame width or height an assignment or a frame may carry.
+inline constexpr uint32_t kMaxImageSide = 16384;
+
 // Coordinator -> tracer: render rows [y0, y1) of `frame` on the replica at commit `commit`.
 struct Assignment {
     uint64_t frame = 0, commit = 0;

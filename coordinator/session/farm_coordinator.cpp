@@ -24,6 +24,7 @@
 #include "coordinator/pacing/extra_samples.h"
 #include "coordinator/pacing/workload_scaler.h"
 #include "coordinator/session/client_hub.h"
+#include "coordinator/session/farm_options_check.h"
 #include "coordinator/session/frame_display.h"
 #include "coordinator/session/tracer_pool.h"
 
@@ -346,42 +347,10 @@ void Farm::shut_down() {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
 }
 
-Status check_options(const FarmOptions& o) {
-    if (o.width <= 0 || o.height <= 0 || o.spp <= 0 || !(o.fps > 0.0) || o.deadline_ms <= 0)
-        return make_error(ErrorCode::invalid_argument,
-                          "--width/--height/--spp/--fps/--deadline-ms must be positive");
-    if (!std::isfinite(o.fps))  // every frame at time 0: a game that never moves
-        return make_error(ErrorCode::invalid_argument, "--fps {}: must be finite", o.fps);
-    if (o.max_depth < 0 || o.max_depth > 1024)  // was sent to the tracers as it was
-        return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024",
-                          o.max_depth);
-    if (o.jpeg_quality < 1 || o.jpeg_quality > 100)
-        return make_error(ErrorCode::invalid_argument, "--jpeg-quality {}: must be in [1, 100]",
-                          o.jpeg_quality);
-    if (!(o.extra_samples >= 0.0 && o.extra_samples <= 1.0))
-        return make_error(ErrorCode::invalid_argument, "--extra-samples {}: must be in [0, 1]",
-                          o.extra_samples);
-    if (!(o.render_budget >= 0.3 && o.render_budget <= 1.0))
-        return make_error(ErrorCode::invalid_argument, "--render-budget {}: must be in [0.3, 1]",
-                          o.render_budget);
-    if (o.extra_samples > 0.0 && !o.fixed_spp)
-        return make_error(ErrorCode::invalid_argument,
-                          "--extra-samples needs --fixed-spp (workload scaling chooses its own)");
-    if (!(o.min_rr_scale > 0.0f && o.min_rr_scale <= 1.0f) ||
-        !(o.min_resolution > 0.0f && o.min_resolution <= 1.0f) || !(o.target_fps >= 0.0))
-        return make_error(
-            ErrorCode::invalid_argument,
-            "--min-rr-scale and --min-resolution must be in (0, 1], --target-fps >= 0");
-    return {};
-}
-
 }  // namespace
 
 Status run_farm(SceneModel scene, const FarmOptions& options, const std::atomic<bool>& stop) {
-    if (Status s = check_options(options); !s) return s;
-    if (!(options.speed_smoothing > 0.0 && options.speed_smoothing <= 1.0))
-        return make_error(ErrorCode::invalid_argument, "--speed-smoothing {}: must be in (0, 1]",
-                          options.speed_smoothing);
+    if (Status s = check_farm_options(options); !s) return s;
     auto balancer = make_balancer(options.balancer, 0.25, options.speed_smoothing);
     if (!balancer)
         return make_error(ErrorCode::invalid_argument, "--balancer {}: unknown scheme",

@@ -293,6 +293,25 @@ TEST(FarmCli, BadInputIsAOneLineError) {
                   std::string::npos)
             << test::read_file(farm.dir + "/f.log");
     }
+    // The coordinator names the option and its value. A frame wider than the wire carries
+    // was taken (and failed only when a tracer came), and so was a negative --min-tracers
+    // and an infinite --target-fps.
+    for (const auto& [flag, value, message] : std::vector<std::array<std::string, 3>>{
+             {"--width", "0", "must be 1..16384"},
+             {"--height", "20000", "must be 1..16384"},
+             {"--spp", "0", "must be positive"},
+             {"--fps", "nan", "must be positive and finite"},
+             {"--deadline-ms", "-5", "must be positive"},
+             {"--min-tracers", "-1", "must be >= 0"},
+             {"--min-resolution", "2", "must be in (0, 1]"},
+             {"--target-fps", "inf", "must be >= 0 and finite"}}) {
+        Process bad_coordinator({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0",
+                                 "--client-port", "0", flag, value},
+                                farm.dir + "/g.log");
+        EXPECT_EQ(bad_coordinator.wait(10s), std::optional<int>(2)) << flag << " " << value;
+        const std::string log = test::read_file(farm.dir + "/g.log");
+        EXPECT_NE(log.find(flag + " " + value + ": " + message), std::string::npos) << log;
+    }
     // An infinite slowdown was taken: the tracer slept forever after its first tile.
     for (const std::string slowdown : {"inf", "nan", "0.5", "5000"}) {
         Process bad_slowdown({kTracer, "--coordinator", "127.0.0.1:1", "--slowdown", slowdown},
