@@ -18,6 +18,7 @@
 #include "client/contact_sheet.h"
 #include "client/frame_output.h"
 #include "client/game_window.h"
+#include "common/base/folder.h"
 #include "common/base/timer.h"
 #include "common/film/float_codec.h"
 #include "common/film/h264_codec.h"
@@ -302,7 +303,8 @@ Result<ClientReport> run_client(const ClientOptions& o, const std::atomic<bool>&
         if (!s) return s.error();
         script = std::move(*s);
     }
-    if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
+    if (!o.out_dir.empty())
+        if (Status s = create_output_folder("--out", o.out_dir); !s) return s.error();
     LatencyStats stats;
     if (!o.latency_csv.empty())
         if (Status s = stats.open_csv(o.latency_csv); !s) return s.error();

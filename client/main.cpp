@@ -76,6 +76,13 @@ pathfarm::Status finish_options(CommandLine& c) {
     if (!std::isfinite(o.turn_rate))
         return pathfarm::make_error(pathfarm::ErrorCode::invalid_argument,
                                     "--turn-rate {}: must be finite", o.turn_rate);
+    // CLI11's range lets NaN through (every comparison with it is false): a NaN silence
+    // never detected a lost link.
+    for (const auto& [flag, value] : {std::pair{"--reconnect-seconds", o.reconnect_seconds},
+                                      std::pair{"--silence-seconds", o.silence_seconds}})
+        if (!std::isfinite(value))
+            return pathfarm::make_error(pathfarm::ErrorCode::invalid_argument,
+                                        "{} {}: must be finite", flag, value);
     for (const auto& [flag, value] :
          {std::pair{"--frames", o.frames}, std::pair{"--screenshot-frame", o.screenshot_frame}})
         if (value < 0)

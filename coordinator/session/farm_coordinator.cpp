@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "common/base/folder.h"
 #include "common/base/timer.h"
 #include "common/commit/commit_codec.h"
 #include "common/film/extra_samples_codec.h"
@@ -276,9 +277,10 @@ void Farm::log_rate(uint64_t frame, int completed) {  // one stats line a second
 }
 
 Status Farm::run(const std::atomic<bool>& stop) {
+    if (!o_.dump_frames.empty())
+        if (Status s = create_output_folder("--dump-frames", o_.dump_frames); !s) return s;
     net::NetService net;
     if (Status s = listen(net); !s) return s;
-    if (!o_.dump_frames.empty()) std::filesystem::create_directories(o_.dump_frames);
     if (!o_.fixed_spp)
         scaler_.emplace(ScalerOptions{target_fps(), o_.spp, o_.min_rr_scale, o_.min_resolution,
                                       o_.render_budget});

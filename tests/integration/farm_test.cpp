@@ -285,7 +285,8 @@ TEST(FarmCli, BadInputIsAOneLineError) {
          std::vector<std::array<std::string, 3>>{{"--turn-rate", "nan", "must be finite"},
                                                  {"--turn-rate", "inf", "must be finite"},
                                                  {"--frames", "-3", "must be >= 0"},
-                                                 {"--screenshot-frame", "-1", "must be >= 0"}}) {
+                                                 {"--screenshot-frame", "-1", "must be >= 0"},
+                                                 {"--silence-seconds", "nan", "must be finite"}}) {
         Process bad_client({kClient, "--headless", "--connect", "127.0.0.1:1", flag, value},
                            farm.dir + "/f.log");
         EXPECT_EQ(bad_client.wait(10s), std::optional<int>(2)) << flag << " " << value;
@@ -311,6 +312,26 @@ TEST(FarmCli, BadInputIsAOneLineError) {
         EXPECT_EQ(bad_coordinator.wait(10s), std::optional<int>(2)) << flag << " " << value;
         const std::string log = test::read_file(farm.dir + "/g.log");
         EXPECT_NE(log.find(flag + " " + value + ": " + message), std::string::npos) << log;
+    }
+    // An output folder that cannot be made ended both processes by an uncaught exception.
+    {
+        const std::string file = farm.dir + "/a-file";
+        std::ofstream(file) << "x";
+        Process bad_out({kClient, "--headless", "--connect", "127.0.0.1:1", "--out", file + "/x"},
+                        farm.dir + "/o.log");
+        EXPECT_EQ(bad_out.wait(10s), std::optional<int>(1));
+        EXPECT_NE(test::read_file(farm.dir + "/o.log")
+                      .find("pathfarm-client: --out " + file + "/x: cannot create the folder"),
+                  std::string::npos)
+            << test::read_file(farm.dir + "/o.log");
+        Process bad_dump({kCoordinator, "--scene", "builtin:default", "--tracer-port", "0",
+                          "--client-port", "0", "--dump-frames", file},
+                         farm.dir + "/p.log");
+        EXPECT_EQ(bad_dump.wait(10s), std::optional<int>(1));
+        EXPECT_NE(test::read_file(farm.dir + "/p.log")
+                      .find("pathfarm-coordinator: --dump-frames " + file + ": "),
+                  std::string::npos)
+            << test::read_file(farm.dir + "/p.log");
     }
     // An infinite slowdown was taken: the tracer slept forever after its first tile.
     for (const std::string slowdown : {"inf", "nan", "0.5", "5000"}) {
