@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <string_view>
@@ -141,6 +142,13 @@ Status check_options(const ReportOptions& o) {
          {std::pair{"--speeds2", &o.speeds2}, {"--speeds3", &o.speeds3}})
         for (const double v : *speeds)
             if (!(v > 0.0 && v <= 1e6)) return bad(flag, v, "in (0, 1e6]");
+    // Said as the missing trace file before, as if --trace had been given.
+    if (o.trace.empty())
+        for (const std::string& camera : o.cameras)
+            if (!std::filesystem::is_regular_file(o.traces_dir + "/" + camera + ".csv"))
+                return make_error(ErrorCode::invalid_argument,
+                                  "--camera {}: no recorded trace {}.csv in --traces-dir {}",
+                                  camera, camera, o.traces_dir);
     return {};
 }
 

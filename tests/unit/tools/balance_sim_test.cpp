@@ -92,8 +92,12 @@ TEST(BalanceSim, BadOptionsAreErrors) {
          [&](ReportOptions& o) {
              o.speeds3 = {1.0, nan, 0.5};
          }},
-        {"--speeds2 -1", [](ReportOptions& o) {
+        {"--speeds2 -1",
+         [](ReportOptions& o) {
              o.speeds2 = {-1.0, 0.6};
+         }},
+        {"--camera bogus: no recorded trace bogus.csv", [](ReportOptions& o) {
+             o.cameras = {"slow", "bogus"};
          }}};
     for (const auto& [message, spoil] : cases) {
         ReportOptions o;
