@@ -258,15 +258,18 @@ TEST(CoordinatorCli, ExportsPoseAndRejectsBadInput) {
     }
 }
 
-// Values the proxy ran with before: a NaN fault interval (a fault every 50 ms) and a negative
-// bandwidth (wrapped to no cap).
+// Values the proxy ran with before: a NaN fault interval (a fault every 50 ms), a negative
+// bandwidth (wrapped to no cap) and its own port as the target (each connection it accepted
+// opened another).
 TEST(FaultProxyCli, BadInputIsAOneLineError) {
     for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
-             {"--random-faults nan", "--random-faults nan: must be in [0, 3600]"},
-             {"--bandwidth -5", "--bandwidth"}}) {
+             {"--listen 1 --target 2 --random-faults nan",
+              "--random-faults nan: must be in [0, 3600]"},
+             {"--listen 1 --target 2 --bandwidth -5", "--bandwidth"},
+             {"--listen 40917 --target 40917", "--target 40917: the proxy's own --listen port"}}) {
         // Under timeout: without the checks the proxy relays until stopped.
-        const CliRun bad = run_cli("--listen 1 --target 2 " + args,
-                                   ("timeout 10 " + std::string(PATHFARM_FAULT_PROXY_EXE)).c_str());
+        const CliRun bad =
+            run_cli(args, ("timeout 10 " + std::string(PATHFARM_FAULT_PROXY_EXE)).c_str());
         EXPECT_EQ(bad.exit_code, 2) << args << ": " << bad.output;
         EXPECT_NE(bad.output.find(message), std::string::npos) << args << ": " << bad.output;
     }

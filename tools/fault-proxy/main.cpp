@@ -60,6 +60,23 @@ void inject(FaultProxy& proxy, std::mt19937& rng) {
     }
 }
 
+// What CLI11's ranges let through, said on stderr. False: exit 2.
+bool check_arguments(double every, int listen_port, int target_port) {
+    if (!std::isfinite(every)) {  // passes CLI11's range check; drew a fault every 50 ms
+        std::fprintf(stderr, "pathfarm-fault-proxy: --random-faults %g: must be in [0, 3600]\n",
+                     every);
+        return false;
+    }
+    if (target_port == listen_port) {  // every connection it accepted would open another
+        std::fprintf(stderr,
+                     "pathfarm-fault-proxy: --target %d: the proxy's own --listen port (it would "
+                     "relay to itself)\n",
+                     target_port);
+        return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -86,11 +103,7 @@ int main(int argc, char** argv) {
     app.add_option("--seed", seed, "Seed of the fault draws")->capture_default_str();
     if (auto exit_code = pathfarm::parse_command_line(app, argc, argv, "pathfarm-fault-proxy"))
         return *exit_code;
-    if (!std::isfinite(every)) {  // passes CLI11's range check; drew a fault every 50 ms
-        std::fprintf(stderr, "pathfarm-fault-proxy: --random-faults %g: must be in [0, 3600]\n",
-                     every);
-        return 2;
-    }
+    if (!check_arguments(every, listen_port, target_port)) return 2;
     FaultProxy proxy{uint16_t(target_port), uint16_t(listen_port)};
     if (proxy.port() == 0) {
         std::fprintf(stderr, "pathfarm-fault-proxy: --listen %d: cannot listen there\n",
