@@ -14,6 +14,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bench/bench_usage.h"
 #include "common/base/log.h"
 #include "common/base/timer.h"
 #include "common/render/light_sampler.h"
@@ -232,13 +233,13 @@ Result<SceneModel> load_or_report(const std::string& path) {
 
 int main(int argc, char** argv) {
     init_logging("pathfarm-accel-bench", "error");  // logs go to stderr; stdout is the CSV
-    if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-        std::printf(
+    if (int code = bench::usage_exit(
+            argc, argv, argc <= 2,
             "usage: pathfarm-accel-bench [SCENES_DIR]\nPrints CSV (measure, count, "
-            "median_ms, per_1000_ms): BVH build and refit, skinned updates, sealed-"
-            "emitter analysis and the light tree. SCENES_DIR: ../shared/scenes.\n");
-        return 0;
-    }
+            "median_ms, per_1000_ms): BVH build and refit, skinned updates, sealed-emitter "
+            "analysis and the light tree. SCENES_DIR: ../shared/scenes.\n");
+        code >= 0)
+        return code;
     const std::string scenes = argc > 1 ? argv[1] : "../shared/scenes";
     auto dragon = load_or_report(scenes + "/stanford-dragon/dragon_vrip.ply.gz");
     auto man = load_or_report(scenes + "/cesium-man/CesiumMan.gltf");

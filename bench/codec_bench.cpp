@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_usage.h"
 #include "common/base/timer.h"
 #include "common/film/h264_codec.h"
 #include "common/film/image_compare.h"
@@ -113,12 +114,12 @@ int h264(const std::vector<std::vector<uint8_t>>& frames, int w, int h, int crf,
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 6 || std::string(argv[1]) == "--help") {
-        std::fprintf(stderr,
-                     "usage: pathfarm-codec-bench FOLDER PRESET THREADS QUALITIES CRFS\n"
-                     "  FOLDER: frame_*.pfm (a recorded sequence); QUALITIES, CRFS: 70,90\n");
-        return argc == 2 ? 0 : 2;
-    }
+    if (int code = bench::usage_exit(
+            argc, argv, argc == 6,
+            "usage: pathfarm-codec-bench FOLDER PRESET THREADS QUALITIES CRFS\n"
+            "  FOLDER: frame_*.pfm (a recorded sequence); QUALITIES, CRFS: 70,90\n");
+        code >= 0)
+        return code;
     std::vector<std::string> paths;
     for (const auto& e : std::filesystem::directory_iterator(argv[1]))
         if (e.path().extension() == ".pfm") paths.push_back(e.path().string());

@@ -34,6 +34,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bench/bench_usage.h"
 #include "common/base/log.h"
 #include "common/base/timer.h"
 #include "common/film/image_compare.h"
@@ -253,13 +254,15 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 5) {
-        std::fprintf(stderr,
-                     "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] "
-                     "[REF_SPP] [STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L] [TAA_ALPHA] [EXTRA] "
-                     "[targeted|dither] [weighted|unweighted] [EDGE_FRAMES]\n");
-        return 2;
-    }
+    if (int code = bench::usage_exit(
+            argc, argv, argc >= 5,
+            "usage: pathfarm-denoise-bench PATH SCENES CACHE OUT [FRAMES] [REF_SPP] "
+            "[STRIP_FRAME] [RADIUS] [LEVELS] [SIGMA_L] [TAA_ALPHA] [EXTRA] [targeted|dither] "
+            "[weighted|unweighted] [EDGE_FRAMES]\n"
+            "Prints CSV (path, frame, method, relmse, ssim, instability, denoise_ms); "
+            "bench/denoise_bench.py runs it.\n");
+        code >= 0)
+        return code;
     init_logging("denoise-bench", "warn");
     Args a;
     a.path = argv[1];

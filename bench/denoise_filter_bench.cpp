@@ -17,6 +17,7 @@
 #include <tbb/global_control.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bench/bench_usage.h"
 #include "common/base/log.h"
 #include "common/base/memory.h"
 #include "common/base/timer.h"
@@ -123,12 +124,12 @@ void run(const std::string& spec, const SceneModel& scene, int w, int h, int run
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 6 || (argc - 5) % 2 != 0) {
-        std::fprintf(
-            stderr,
-            "usage: pathfarm-denoise-filter-bench SCENE RUNS THREADS RADIUS W H [W H ...]\n");
-        return 2;
-    }
+    if (int code = bench::usage_exit(
+            argc, argv, argc >= 6 && (argc - 5) % 2 == 0,
+            "usage: pathfarm-denoise-filter-bench SCENE RUNS THREADS RADIUS W H [W H ...]\n"
+            "Prints CSV: the denoiser's time per frame alone, for each size.\n");
+        code >= 0)
+        return code;
     init_logging("denoise-filter-bench", "warn");
     // As the farm's processes do (coordinator/main.cpp): the frames' buffers stay mapped. A
     // single frame in a fresh process (pathfarm-render --denoise) faults its planes in once.

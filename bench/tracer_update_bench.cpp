@@ -16,6 +16,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bench/bench_usage.h"
 #include "common/base/log.h"
 #include "common/base/timer.h"
 #include "common/scene/load/builtin_scenes.h"
@@ -138,6 +139,13 @@ Sequence animated(const SceneModel& base) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (int code = bench::usage_exit(
+            argc, argv, argc <= 5,
+            "usage: pathfarm-tracer-update-bench [SCENES_DIR] [FRAMES] [LOG_LEVEL] [SCENARIO]\n"
+            "Prints CSV: the tracer's per-frame scene update against a full rebuild. "
+            "SCENES_DIR: ../shared/scenes; FRAMES: 40.\n");
+        code >= 0)
+        return code;
     init_logging("tracer-update-bench", argc > 3 ? argv[3] : "warn");  // debug: Embree's share
     const std::string scenes = argc > 1 ? argv[1] : "../shared/scenes";
     const int frames = argc > 2 ? std::max(4, std::atoi(argv[2])) : 40;

@@ -13,7 +13,7 @@ phase() { echo "== $1 (the phase before took $((SECONDS - phase_start)) s)"; pha
 phase "build (Release, -Werror)"
 # Strict: Embree and OpenCL (PoCL) must be found, so that their tests cannot silently vanish.
 "$root/scripts/build.sh" "$root/build/ci" -DPATHFARM_WERROR=ON -DPATHFARM_BUILD_TESTS=ON \
-  -DPATHFARM_STRICT_OPTIONS=ON
+  -DPATHFARM_BUILD_BENCH=ON -DPATHFARM_STRICT_OPTIONS=ON
 phase "tests"
 ctest --test-dir "$root/build/ci" -j "$jobs" --output-on-failure --timeout 120
 
