@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "bench/bench_usage.h"
@@ -121,8 +122,11 @@ int main(int argc, char** argv) {
         code >= 0)
         return code;
     std::vector<std::string> paths;
-    for (const auto& e : std::filesystem::directory_iterator(argv[1]))
-        if (e.path().extension() == ".pfm") paths.push_back(e.path().string());
+    std::error_code error;
+    for (auto it = std::filesystem::directory_iterator(argv[1], error);
+         !error && it != std::filesystem::directory_iterator(); it.increment(error))
+        if (it->path().extension() == ".pfm") paths.push_back(it->path().string());
+    if (error) return std::fprintf(stderr, "%s: %s\n", argv[1], error.message().c_str()), 2;
     std::sort(paths.begin(), paths.end());
     if (paths.empty()) return std::fprintf(stderr, "%s: no .pfm frames\n", argv[1]), 2;
     std::vector<std::vector<uint8_t>> frames;

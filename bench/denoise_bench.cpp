@@ -31,10 +31,12 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "bench/bench_usage.h"
+#include "common/base/folder.h"
 #include "common/base/log.h"
 #include "common/base/timer.h"
 #include "common/film/image_compare.h"
@@ -288,8 +290,8 @@ int main(int argc, char** argv) {
     if (Status s = pipeline.start_game(spec.game, spec.scene); !s) fail(s.error().message);
     auto backend = tracer::create_backend(tracer::BackendKind::embree, {0, 0, 0});
     if (!backend) fail(backend.error().message);
-    std::filesystem::create_directories(a.cache);
-    std::filesystem::create_directories(a.out);
+    for (const auto& [what, folder] : {std::pair{"CACHE", &a.cache}, std::pair{"OUT", &a.out}})
+        if (Status s = create_output_folder(what, *folder); !s) fail(s.error().message);
     std::printf("path,frame,method,relmse,ssim,instability,denoise_ms\n");
     PathRun run(a, spec, pipeline, **backend);
     for (int k = 0; k < a.frames; ++k)
