@@ -23,10 +23,10 @@ Status check_farm_options(const FarmOptions& o) {
     if (o.min_tracers < 0)
         return make_error(ErrorCode::invalid_argument, "--min-tracers {}: must be >= 0",
                           o.min_tracers);
-    // An infinite rate put every frame at time 0: a game that never moves.
-    if (!(o.fps > 0.0) || !std::isfinite(o.fps))
-        return make_error(ErrorCode::invalid_argument, "--fps {}: must be positive and finite",
-                          o.fps);
+    if (!(o.fps > 0.0))
+        return make_error(ErrorCode::invalid_argument, "--fps {}: must be positive", o.fps);
+    if (!std::isfinite(o.fps))  // every frame at time 0: a game that never moves
+        return make_error(ErrorCode::invalid_argument, "--fps {}: must be finite", o.fps);
     if (o.max_depth < 0 || o.max_depth > 1024)  // was sent to the tracers as it was
         return make_error(ErrorCode::invalid_argument, "--max-depth {}: must be 0..1024",
                           o.max_depth);
