@@ -27,7 +27,6 @@
 // as the farm does; `render`: at the render size, upscaled after).
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <functional>
 #include <map>
 #include <string>

@@ -125,6 +125,11 @@ namespace {
 
 // The options a run needs in range: NaN, negative or zero values ran before and printed a
 // table of zeros or NaN as if it were a result. Written as !(in range) so NaN fails too.
+// The recorded trace shipped for a camera path.
+std::string shipped_trace(const ReportOptions& o, const std::string& camera) {
+    return o.traces_dir + "/" + camera + ".csv";
+}
+
 Status check_options(const ReportOptions& o) {
     const SimOptions& s = o.sim;
     const auto bad = [](std::string_view flag, double value, std::string_view range) {
@@ -145,7 +150,7 @@ Status check_options(const ReportOptions& o) {
     // Said as the missing trace file before, as if --trace had been given.
     if (o.trace.empty())
         for (const std::string& camera : o.cameras)
-            if (!std::filesystem::is_regular_file(o.traces_dir + "/" + camera + ".csv"))
+            if (!std::filesystem::is_regular_file(shipped_trace(o, camera)))
                 return make_error(ErrorCode::invalid_argument,
                                   "--camera {}: no recorded trace {}.csv in --traces-dir {}",
                                   camera, camera, o.traces_dir);
@@ -173,8 +178,7 @@ Result<std::string> run_report(const ReportOptions& o) {
                 o.trace == "generated"
                     ? Result<CostTrace>(generate_trace(45, o.sim.frames,
                                                        camera == "fast" ? 3.0 : 0.3, o.sim.seed))
-                    : read_cost_trace(o.trace.empty() ? o.traces_dir + "/" + camera + ".csv"
-                                                      : o.trace);
+                    : read_cost_trace(o.trace.empty() ? shipped_trace(o, camera) : o.trace);
             if (!trace) return trace.error();
             const std::string column = fmt::format("{} {}", tracers, camera);
             columns.push_back(column);
