@@ -252,67 +252,6 @@ void AtrousFilter::allocate(int width, int height, int pad) {
         *planes[p] = first + p * plane;
 }
 
-void AtrousFilter::set_guide(const GBuffer& g, const Camera& camera,
-                             const std::vector<uint8_t>& filter) {
-    // The widest tap offset, and at least a lane's width for the rows' rounded-up ends.
-    const int pad = std::max(kMaxLanes, o_.radius << (o_.levels - 1));
-    if (g.width != width_ || g.height != height_ || pad != pad_) allocate(g.width, g.height, pad);
-    // Camera space: normals rotated into it, points as depth along the view axis times the
-    // pixel centre's film point (x, y, -1) at unit depth (generate_camera_ray's inverse).
-    const Mat3 m(glm::inverse(camera.camera_to_world));  // world to camera, for normals
-    const float tan_half = std::tan(0.5f * camera.yfov_radians);
-    pitch_ = 2.0f * tan_half / float(height_);
-    const float film_x = 2.0f * tan_half * float(width_) / float(height_) / float(width_);
-    const float inv_sigma_pitch = 1.0f / (o_.sigma_plane * pitch_);
-    film_x_.resize(std::size_t(width_));
-    for (int x = 0; x < width_; ++x)
-        film_x_[std::size_t(x)] = (float(x) + 0.5f) * film_x - 0.5f * float(width_) * film_x;
-    parallel_rows(height_, [&](int y) {
-        const float fy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half;
-        guide_row(g, m, filter, y, fy, inv_sigma_pitch);
-    });
-}
-
-void AtrousFilter::guide_row(const GBuffer& g, const Mat3& m, const std::vector<uint8_t>& filter,
-                             int y, float fy, float inv_sigma_pitch) {
-    const std::size_t row = std::size_t(y) * width_;
-    const std::size_t k0 = std::size_t(y + pad_) * stride_ + pad_;
-    // Eight pixels at a time, the pixels not filtered (zero normal, infinite distance) and the
-    // lanes past the row's end (into the padding, which stays zero) computed too and then
-    // zeroed. The same operations in the same order as glm::normalize (v * (1 / sqrt(v . v))).
-    for (int x = 0; x < width_; x += 8) {
-        const std::size_t i = row + x, k = k0 + x;
-        float n[3][8] = {}, fx_lanes[8] = {}, distance_lanes[8] = {};
-        int32_t keep[8] = {};
-        for (int l = 0; l < std::min(8, width_ - x); ++l) {
-            n[0][l] = g.normal[i + l].x;
-            n[1][l] = g.normal[i + l].y;
-            n[2][l] = g.normal[i + l].z;
-            fx_lanes[l] = film_x_[std::size_t(x + l)];
-            distance_lanes[l] = g.distance[i + l];
-            keep[l] = filter[i + l] ? -1 : 0;
-        }
-        const vf8 vx = load<vf8>(n[0]), vy = load<vf8>(n[1]), vz = load<vf8>(n[2]);
-        const vf8 cx = m[0][0] * vx + m[1][0] * vy + m[2][0] * vz;
-        const vf8 cy = m[0][1] * vx + m[1][1] * vy + m[2][1] * vz;
-        const vf8 cz = m[0][2] * vx + m[1][2] * vy + m[2][2] * vz;
-        const vf8 inv_length = 1.0f / vsqrt(cx * cx + cy * cy + cz * cz);
-        const vf8 nx = cx * inv_length, ny = cy * inv_length, nz = cz * inv_length;
-        const vf8 fx = load<vf8>(fx_lanes), distance = load<vf8>(distance_lanes);
-        const vf8 z = distance / vsqrt(fx * fx + fy * fy + 1.0f);
-        const vf8 slope = nx * fx + ny * fy - nz;  // n . (fx, fy, -1)
-        vi8 on;
-        std::memcpy(&on, keep, sizeof on);
-        store(&nx_[k], on ? nx : vf8{});
-        store(&ny_[k], on ? ny : vf8{});
-        store(&nz_[k], on ? nz : vf8{});
-        store(&z_[k], on ? z : vf8{});
-        store(&slope_[k], on ? slope : vf8{});
-        store(&offset_[k], on ? z * slope : vf8{});
-        store(&inv_plane_[k], on ? inv_sigma_pitch / distance : vf8{});
-    }
-}
-
 void AtrousFilter::filter(FloatImage& image, const std::vector<float>& variance, bool spatial,
                           const std::vector<Rgb>& modulate) {
     const float sigma_l = spatial ? o_.sigma_luminance_spatial : o_.sigma_luminance;
