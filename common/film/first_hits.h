@@ -1,7 +1,8 @@
-// First hits: what a pixel's centre ray meets first (DESIGN.md, "The frame" step 5). Tracers
-// compute them while they render and send them with each tile, so the coordinator reprojects
-// history and the denoiser stops at edges without tracing a G-buffer of its own. The centre
-// ray, not a jittered sample's: a still view must see the same surface in a pixel every frame.
+// First hits: what a pixel's centre ray meets first (DESIGN.md, "The frame" step 5), or
+// through mirrors and clear glass the surface they show (kReplaced). Tracers compute them
+// while they render and send them with each tile, so the coordinator reprojects history and
+// the denoiser stops at edges without tracing a G-buffer of its own. The centre ray, not a
+// jittered sample's: a still view must see the same surface in a pixel every frame.
 #pragma once
 
 #include <cstdint>
@@ -21,11 +22,17 @@ struct FirstHit {
     // directly, a mirror-like metal or a transmissive surface (common/render/path_tracer.cpp,
     // first_hit_flags). Its light is not the base colour times a smooth irradiance.
     static constexpr uint32_t kSharp = 1u;
+    // Seen through mirrors or clear glass (primary surface replacement, PathTracer::first_hit):
+    // the surface beyond them. Its distance is the path's length, so the point lies along the
+    // centre ray where the surface appears; its normal is reflected by the mirrors passed, so
+    // a flat surface seen in a flat mirror stays flat there; its albedo is the base colour
+    // tinted by theirs; no triangle (kNone).
+    static constexpr uint32_t kReplaced = 2u;
     float distance = kInfinity;  // along the primary ray; +inf where it escaped
     uint32_t instance = kNone;   // SceneModel index in a backend; the commit's id on the wire
     Vec3 normal{0.0f};           // unit world-space shading normal, facing the camera
     Rgb albedo{0.0f};            // base colour at the hit (textures applied)
-    uint32_t flags = 0;          // kSharp
+    uint32_t flags = 0;          // kSharp, kReplaced
     // The triangle hit (its index in the instance's mesh) and the barycentrics of the point,
     // p = (1-u-v) p0 + u p1 + v p2: where a deforming surface was last frame is the same
     // combination of the triangle's previous vertices (coordinator/converge reprojection).
@@ -33,6 +40,7 @@ struct FirstHit {
     float u = 0.0f, v = 0.0f;
     bool hit() const { return instance != kNone; }
     bool sharp() const { return (flags & kSharp) != 0; }
+    bool replaced() const { return (flags & kReplaced) != 0; }
 };
 static_assert(sizeof(FirstHit) == 12 * sizeof(float), "FirstHit is the kernel's 12 words");
 

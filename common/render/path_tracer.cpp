@@ -140,25 +140,6 @@ bool PathTracer::scatter(PathState& s, Ray& ray, SurfacePoint& sp, int depth, Pi
     return true;
 }
 
-FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
-                               SampleCounters& counters) const {
-    ++counters.rays;
-    if (!first.found) return FirstHit{};
-    const Hit& hit = first.hit;
-    SurfacePoint sp = shading_.surface(hit);
-    const MaterialPoint mp = shading_.material_point(sp);
-    const bool sharp = max_component(shading_.emitted(sp, -ray.d)) > 0.0f ||
-                       mp.transmission > 0.0f || (mp.metallic >= 0.5f && mp.alpha < kSharpMaxAlpha);
-    return {hit.t,
-            hit.instance,
-            glm::dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns,
-            mp.base_color,
-            sharp ? FirstHit::kSharp : 0u,
-            hit.prim,
-            hit.u,
-            hit.v};
-}
-
 template <uint32_t kFeatures>
 Rgb PathTracer::trace_with(Ray ray, const KnownHit& first, PixelSampler& sampler,
                            SampleCounters& counters) const {

@@ -76,6 +76,9 @@ struct SampleCounters {
 // GGX alpha below which a metal's first hit is a mirror the denoiser keeps sharp (roughness
 // 0.2); the OpenCL kernel's PF_SHARP_MAX_ALPHA is the same.
 inline constexpr float kSharpMaxAlpha = 0.04f;
+// Mirrors and clear glass a centre ray passes through before the surface it shows replaces
+// the first hit (PathTracer::first_hit); the OpenCL kernel's PF_MAX_REPLACED_BOUNCES is the same.
+inline constexpr int kMaxReplacedBounces = 3;
 
 // Ray cones for texture level of detail (texture_mips.h): after a non-delta bounce a path's
 // cone widens by kConeSpread / sqrt(pdf) radians, the sampled direction's density floored at
@@ -105,7 +108,10 @@ public:
     // What `ray`, whose closest hit is `first`, meets first: its distance, instance, shading
     // normal facing the ray (as the normal map bends it), base colour and whether a denoiser
     // must keep it sharp (an emitter, transmission, or metal smoother than kSharpMaxAlpha).
-    // Counted as one closest-hit ray.
+    // Through a mirror-like metal or clear glass (up to kMaxReplacedBounces of them) it is the
+    // first other surface beyond them instead (FirstHit::kReplaced); where the chain ends at an
+    // emitter, rough glass or the sky, the first hit, sharp. Counted as one closest-hit ray,
+    // plus one for each ray followed beyond.
     FirstHit first_hit(const Ray& ray, const KnownHit& first, SampleCounters& counters) const;
     uint32_t features() const { return features_; }  // of the loop in use
     const Intersector& kernel() const { return kernel_; }

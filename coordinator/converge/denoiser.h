@@ -7,10 +7,12 @@
 // where history is short (edge_coverage.h) and blended with its last output where surfaces
 // stood still (temporal anti-aliasing, temporal_aa.h).
 //
-// What stays sharp, per pixel: a pixel the tracers flagged sharp (an emitter seen directly, a
-// mirror-like metal, glass: FirstHit::kSharp), the pixels next to one (their other samples
-// may have seen it) and the sky keep their own accumulated light and are no neighbour's tap:
-// their light is not a base colour times a smooth irradiance.
+// What stays sharp, per pixel: a pixel the tracers flagged sharp (an emitter seen directly,
+// rough glass, a mirror or clear glass showing no surface beyond: FirstHit::kSharp), the
+// pixels next to one (their other samples may have seen it) and the sky keep their own
+// accumulated light and are no neighbour's tap: their light is not a base colour times a
+// smooth irradiance. Where a mirror or clear glass shows a surface, the first hit is that
+// surface (FirstHit::kReplaced) and its light is filtered like any other.
 #pragma once
 
 #include "coordinator/converge/atrous.h"

@@ -240,35 +240,83 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
     return radiance;
 }
 
-// What a camera ray meets first, as FirstHit's 12 words (common/film/first_hits.h): distance,
-// instance, shading normal facing the ray, base colour, flags, triangle and barycentrics
-// (PathTracer::first_hit).
+// What a camera ray shows the denoiser, as FirstHit's 12 words (common/film/first_hits.h):
+// distance, instance, shading normal facing the ray, base colour, flags, triangle and
+// barycentrics of its first hit, or through mirrors and clear glass of the first surface
+// beyond them (PathTracer::first_hit, common/render/first_hit.cpp).
 #define PF_SHARP_MAX_ALPHA 0.04f
+#define PF_MAX_REPLACED_BOUNCES 3
+#define PF_PASS_DIFFUSE 0
+#define PF_PASS_MIRROR 1
+#define PF_PASS_CLEAR_GLASS 2
+#define PF_PASS_SHARP 3
+int pf_first_hit_pass(const PfMaterialPoint* mp, bool emits) {
+    if (emits) return PF_PASS_SHARP;
+    const bool smooth = mp->alpha < PF_SHARP_MAX_ALPHA;
+    if (mp->transmission > 0.0f) return smooth ? PF_PASS_CLEAR_GLASS : PF_PASS_SHARP;
+    if (mp->metallic >= 0.5f && smooth) return PF_PASS_MIRROR;
+    return PF_PASS_DIFFUSE;
+}
+void pf_write_first_hit(__global float* out, float distance, uint instance, float3 n, float3 albedo,
+                        uint flags, uint prim, float u, float v) {
+    out[0] = distance;
+    out[1] = as_float(instance);
+    out[2] = n.x, out[3] = n.y, out[4] = n.z;
+    out[5] = albedo.x, out[6] = albedo.y, out[7] = albedo.z;
+    out[8] = as_float(flags);
+    out[9] = as_float(prim);
+    out[10] = u, out[11] = v;
+}
 void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) {
     PfHit hit;
     ++*rays;
     if (!pf_trace(s, ray, &hit, false)) {
-        out[0] = PF_INFINITY;
-        out[1] = as_float(0xffffffffu);
-        for (int w = 2; w < 8; ++w) out[w] = 0.0f;
-        out[8] = as_float(0u);
-        out[9] = as_float(0xffffffffu);
-        out[10] = out[11] = 0.0f;
+        pf_write_first_hit(out, PF_INFINITY, 0xffffffffu, (float3)(0.0f), (float3)(0.0f), 0u,
+                           0xffffffffu, 0.0f, 0.0f);
         return;
     }
-    PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
-    const PfMaterialPoint mp = pf_material_point(s, &sp, 0.0f);
-    const float3 n = dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns;
-    const float3 le = pf_emitted(s, &sp, -ray.d);
-    const bool sharp = fmax(le.x, fmax(le.y, le.z)) > 0.0f || mp.transmission > 0.0f ||
-                       (mp.metallic >= 0.5f && mp.alpha < PF_SHARP_MAX_ALPHA);
-    out[0] = hit.t;
-    out[1] = as_float(hit.instance);
-    out[2] = n.x, out[3] = n.y, out[4] = n.z;
-    out[5] = mp.base_color.x, out[6] = mp.base_color.y, out[7] = mp.base_color.z;
-    out[8] = as_float(sharp ? 1u : 0u);
-    out[9] = as_float(hit.prim);
-    out[10] = hit.u, out[11] = hit.v;
+    const float3 camera_d = ray.d;
+    float travelled = 0.0f;
+    float3 tint = (float3)(1.0f);
+    float3 mirrors[PF_MAX_REPLACED_BOUNCES];
+    int mirrored = 0;
+    for (int bounce = 0;; ++bounce) {
+        PfSurface sp = pf_surface(s, hit.instance, hit.prim, hit.u, hit.v);
+        const PfMaterialPoint mp = pf_material_point(s, &sp, 0.0f);
+        const float3 n = dot(sp.ns, ray.d) > 0.0f ? -sp.ns : sp.ns;
+        const float3 le = pf_emitted(s, &sp, -ray.d);
+        const int pass = pf_first_hit_pass(&mp, fmax(le.x, fmax(le.y, le.z)) > 0.0f);
+        travelled += hit.t;
+        if (bounce == 0) {
+            pf_write_first_hit(out, hit.t, hit.instance, n, mp.base_color,
+                               pass == PF_PASS_DIFFUSE ? 0u : 1u, hit.prim, hit.u, hit.v);
+            if (pass == PF_PASS_DIFFUSE) return;
+        } else if (pass == PF_PASS_DIFFUSE) {
+            float3 seen = n;
+            for (int k = mirrored - 1; k >= 0; --k)
+                seen -= 2.0f * dot(seen, mirrors[k]) * mirrors[k];
+            if (dot(seen, camera_d) > 0.0f) seen = -seen;
+            pf_write_first_hit(out, travelled, hit.instance, normalize(seen), tint * mp.base_color,
+                               2u, 0xffffffffu, 0.0f, 0.0f);
+            return;
+        }
+        // An emitter, rough glass, the sky or a chain too long: the first hit as written, sharp.
+        if (pass == PF_PASS_SHARP || bounce == PF_MAX_REPLACED_BOUNCES) return;
+        const float3 wo = -ray.d;
+        float3 wi;
+        float etap = 1.0f;
+        if (!(pass == PF_PASS_CLEAR_GLASS && pf_refract(wo, sp.ns, mp.ior, &etap, &wi))) {
+            wi = pf_reflect(wo, n);  // a mirror, or total internal reflection
+            mirrors[mirrored++] = n;
+        }
+        tint *= mp.base_color;
+        const float3 ng_out = dot(wi, sp.ng) > 0.0f ? sp.ng : -sp.ng;
+        ray.o = pf_offset_ray_origin(sp.p, ng_out);
+        ray.d = normalize(wi);
+        ray.tmax = PF_INFINITY;
+        ++*rays;
+        if (!pf_trace(s, ray, &hit, false)) return;
+    }
 }
 
 // The camera ray through (px, py) in pixels (generate_camera_ray).
