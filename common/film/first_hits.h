@@ -28,11 +28,15 @@ struct FirstHit {
     // a flat surface seen in a flat mirror stays flat there; its albedo is the base colour
     // tinted by theirs; no triangle (kNone).
     static constexpr uint32_t kReplaced = 2u;
+    // The surface shown (first or replaced) is glossy: GGX alpha below kGlossyMaxAlpha
+    // (common/render/path_tracer.h). Part of its light is a reflection that moves over it as
+    // the camera does, so its reprojected history lags (the denoiser keeps less of it).
+    static constexpr uint32_t kGlossy = 4u;
     float distance = kInfinity;  // along the primary ray; +inf where it escaped
     uint32_t instance = kNone;   // SceneModel index in a backend; the commit's id on the wire
     Vec3 normal{0.0f};           // unit world-space shading normal, facing the camera
     Rgb albedo{0.0f};            // base colour at the hit (textures applied)
-    uint32_t flags = 0;          // kSharp, kReplaced
+    uint32_t flags = 0;          // kSharp, kReplaced, kGlossy
     // The triangle hit (its index in the instance's mesh) and the barycentrics of the point,
     // p = (1-u-v) p0 + u p1 + v p2: where a deforming surface was last frame is the same
     // combination of the triangle's previous vertices (coordinator/converge reprojection).
@@ -41,6 +45,7 @@ struct FirstHit {
     bool hit() const { return instance != kNone; }
     bool sharp() const { return (flags & kSharp) != 0; }
     bool replaced() const { return (flags & kReplaced) != 0; }
+    bool glossy() const { return (flags & kGlossy) != 0; }
 };
 static_assert(sizeof(FirstHit) == 12 * sizeof(float), "FirstHit is the kernel's 12 words");
 

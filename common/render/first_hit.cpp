@@ -56,14 +56,18 @@ FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
                        hit.prim,
                        hit.u,
                        hit.v};
+        const uint32_t glossy = mp.alpha < kGlossyMaxAlpha ? FirstHit::kGlossy : 0u;
         if (pass == Pass::diffuse) {
-            if (bounce == 0) return primary;
+            if (bounce == 0) {
+                primary.flags = glossy;
+                return primary;
+            }
             // Where the centre ray's path would put it seen straight on: along the camera
             // ray at the distance travelled, its normal reflected by the mirrors passed.
             Vec3 seen = through_mirrors(n, mirrors, mirrored);
             if (glm::dot(seen, ray.d) > 0.0f) seen = -seen;
             return {travelled, hit.instance, glm::normalize(seen), tint * mp.base_color,
-                    FirstHit::kReplaced};
+                    FirstHit::kReplaced | glossy};
         }
         // An emitter, rough glass, the sky or a chain too long: the pixel stays sharp.
         if (pass == Pass::sharp || bounce == kMaxReplacedBounces) return primary;

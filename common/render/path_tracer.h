@@ -76,6 +76,9 @@ struct SampleCounters {
 // GGX alpha below which a metal's first hit is a mirror the denoiser keeps sharp (roughness
 // 0.2); the OpenCL kernel's PF_SHARP_MAX_ALPHA is the same.
 inline constexpr float kSharpMaxAlpha = 0.04f;
+// GGX alpha below which a first hit that is not sharp is glossy (FirstHit::kGlossy: roughness
+// about 0.32; builtin:default's marble and gold); the OpenCL kernel's PF_GLOSSY_MAX_ALPHA.
+inline constexpr float kGlossyMaxAlpha = 0.1f;
 // Mirrors and clear glass a centre ray passes through before the surface it shows replaces
 // the first hit (PathTracer::first_hit); the OpenCL kernel's PF_MAX_REPLACED_BOUNCES is the same.
 inline constexpr int kMaxReplacedBounces = 3;

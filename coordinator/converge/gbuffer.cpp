@@ -17,6 +17,7 @@ void GBuffer::resize(int w, int h) {
     normal.assign(n, Vec3(0.0f));
     albedo.assign(n, Rgb(0.0f));
     sharp.assign(n, 0);
+    glossy.assign(n, 0);
     primitive.assign(n, FirstHit::kNone);
     barycentric.assign(n, Vec2(0.0f));
 }
@@ -42,6 +43,7 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
             g.normal[i] = h.normal;
             g.albedo[i] = h.albedo;
             g.sharp[i] = h.sharp() ? 1 : 0;
+            g.glossy[i] = (h.flags & FirstHit::kGlossy) ? 1 : 0;
             g.primitive[i] = h.primitive;
             g.barycentric[i] = Vec2(h.u, h.v);
         }

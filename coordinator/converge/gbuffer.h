@@ -21,6 +21,7 @@ struct GBuffer {
     std::vector<Vec3> normal;        // shading normal facing the camera (zero where it escapes)
     std::vector<Rgb> albedo;         // base colour (zero where it escapes)
     std::vector<uint8_t> sharp;      // 1: the denoiser keeps the pixel's own light (FirstHit)
+    std::vector<uint8_t> glossy;     // 1: FirstHit::kGlossy (its history lags the camera)
     // Triangle and barycentrics of the hit, on surfaces that deformed this frame (FirstHit);
     // kNone elsewhere. With upscaling, the nearest render pixel's.
     std::vector<uint32_t> primitive;

@@ -213,12 +213,16 @@ struct Reprojection {
     int hx = 0, hy = 0;  // the history pixel
     bool object_moves = false;
     bool deforms = false;    // its own instance deformed this frame (object_moves too)
+    bool glossy = false;     // its surface is glossy (GBuffer::glossy)
     Vec2 source{kNoSource};  // where the surface was in the last frame's pixels, if on screen
 };
 
 // The floor on f where the camera or the object moved (ConvergeOptions).
 float least_blend(const Reprojection& r, const ConvergeOptions& o) {
-    return r.deforms ? o.deformed_floor : r.object_moves ? o.object_floor : o.camera_floor;
+    return r.deforms        ? o.deformed_floor
+           : r.object_moves ? o.object_floor
+           : r.glossy       ? std::max(o.glossy_floor, o.camera_floor)
+                            : o.camera_floor;
 }
 
 Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
@@ -232,6 +236,7 @@ Reprojection reproject(const Motion& m, const CameraProjector& project_prev,
     Reprojection r;
     r.object_moves = (flags & Motion::kMoving) || (m.near_now && m.near_now[i]);
     r.deforms = (flags & Motion::kDeformed) != 0;
+    r.glossy = !g.glossy.empty() && g.glossy[i] != 0;
     float px = x + 0.5f, py = y + 0.5f;
     bool on_screen = true;
     float expected = g.distance[i];

@@ -166,7 +166,7 @@ TEST_P(FirstHits, AreWhatThePixelCentresRayMeetsFirst) {
     const FrameSpec spec = spec_of(scene, 3);
     const Rendered r = render_rows(scene, GetParam(), spec, true);
     int hits = 0, mismatched = 0, sharp = 0;
-    int chains = 0, replaced = 0, replaced_right = 0, kept_sharp = 0, normal_wrong = 0;
+    int chains = 0, replaced = 0, replaced_right = 0, kept_sharp = 0, normal_wrong = 0, glossy = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
             const Ray ray = generate_camera_ray(spec.camera, kWidth, kHeight, x + 0.5f, y + 0.5f);
@@ -238,13 +238,19 @@ TEST_P(FirstHits, AreWhatThePixelCentresRayMeetsFirst) {
                     EXPECT_TRUE(got.sharp()) << "pixel " << x << "," << y;
                 } else if (!emits) {
                     EXPECT_FALSE(got.sharp()) << "pixel " << x << "," << y;
+                    // Glossy: what is not sharp and smoother than kGlossyMaxAlpha (the marble
+                    // pillars and the gold spheres).
+                    const float alpha = m.roughness_factor * m.roughness_factor;
+                    EXPECT_EQ(got.glossy(), alpha < kGlossyMaxAlpha) << "pixel " << x << "," << y;
+                    glossy += got.glossy();
                 }
             }
             sharp += got.sharp();
         }
     EXPECT_GT(hits, kWidth * kHeight / 2);
     EXPECT_LE(mismatched, hits / 100);
-    EXPECT_GT(sharp, 0) << "builtin:default shows an emitter, glass and gold";
+    EXPECT_GT(sharp, 0) << "builtin:default shows an emitter, glass and a mirror";
+    EXPECT_GT(glossy, 10) << "builtin:default shows marble pillars and gold spheres";
     // Through the mirror and the glass sphere: the surface beyond, where double precision
     // finds it (a chain's float rounding may end on another triangle at grazing angles).
     EXPECT_GT(replaced, 10) << "builtin:default's view shows its mirror and glass sphere";

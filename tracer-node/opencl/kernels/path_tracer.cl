@@ -245,6 +245,7 @@ float3 pf_trace_path(const PfScene* s, const PfFrameParams* fp, PfRay ray, PfSam
 // barycentrics of its first hit, or through mirrors and clear glass of the first surface
 // beyond them (PathTracer::first_hit, common/render/first_hit.cpp).
 #define PF_SHARP_MAX_ALPHA 0.04f
+#define PF_GLOSSY_MAX_ALPHA 0.1f
 #define PF_MAX_REPLACED_BOUNCES 3
 #define PF_PASS_DIFFUSE 0
 #define PF_PASS_MIRROR 1
@@ -287,9 +288,10 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
         const float3 le = pf_emitted(s, &sp, -ray.d);
         const int pass = pf_first_hit_pass(&mp, fmax(le.x, fmax(le.y, le.z)) > 0.0f);
         travelled += hit.t;
+        const uint glossy = mp.alpha < PF_GLOSSY_MAX_ALPHA ? 4u : 0u;
         if (bounce == 0) {
             pf_write_first_hit(out, hit.t, hit.instance, n, mp.base_color,
-                               pass == PF_PASS_DIFFUSE ? 0u : 1u, hit.prim, hit.u, hit.v);
+                               pass == PF_PASS_DIFFUSE ? glossy : 1u, hit.prim, hit.u, hit.v);
             if (pass == PF_PASS_DIFFUSE) return;
         } else if (pass == PF_PASS_DIFFUSE) {
             float3 seen = n;
@@ -297,7 +299,7 @@ void pf_first_hit(const PfScene* s, PfRay ray, __global float* out, uint* rays) 
                 seen -= 2.0f * dot(seen, mirrors[k]) * mirrors[k];
             if (dot(seen, camera_d) > 0.0f) seen = -seen;
             pf_write_first_hit(out, travelled, hit.instance, normalize(seen), tint * mp.base_color,
-                               2u, 0xffffffffu, 0.0f, 0.0f);
+                               2u | glossy, 0xffffffffu, 0.0f, 0.0f);
             return;
         }
         // An emitter, rough glass, the sky or a chain too long: the first hit as written, sharp.
