@@ -74,13 +74,11 @@ FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
         const Vec3 wo = -r.d;
         Vec3 wi;
         float etap = 1.0f;
-        if (pass == Pass::clear_glass && refract(wo, sp.ns, mp.ior, etap, wi)) {
-            tint *= mp.base_color;
-        } else {  // a mirror, or total internal reflection
-            wi = reflect(wo, n);
+        if (!(pass == Pass::clear_glass && refract(wo, sp.ns, mp.ior, etap, wi))) {
+            wi = reflect(wo, n);  // a mirror, or total internal reflection
             mirrors[mirrored++] = n;
-            tint *= mp.base_color;
         }
+        tint *= mp.base_color;
         const Vec3 ng_out = glm::dot(wi, sp.ng) > 0.0f ? sp.ng : -sp.ng;
         r.o = offset_ray_origin(sp.p, ng_out);
         r.d = glm::normalize(wi);

@@ -113,7 +113,8 @@ public:
     // must keep it sharp (an emitter, transmission, or metal smoother than kSharpMaxAlpha).
     // Through a mirror-like metal or clear glass (up to kMaxReplacedBounces of them) it is the
     // first other surface beyond them instead (FirstHit::kReplaced); where the chain ends at an
-    // emitter, rough glass or the sky, the first hit, sharp. Counted as one closest-hit ray,
+    // emitter, rough glass or the sky, the first hit, sharp. A surface shown that is not sharp
+    // and smoother than kGlossyMaxAlpha is flagged glossy. Counted as one closest-hit ray,
     // plus one for each ray followed beyond.
     FirstHit first_hit(const Ray& ray, const KnownHit& first, SampleCounters& counters) const;
     uint32_t features() const { return features_; }  // of the loop in use
