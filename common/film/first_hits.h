@@ -19,8 +19,9 @@ namespace pathfarm {
 struct FirstHit {
     static constexpr uint32_t kNone = 0xffffffffu;
     // The pixel shows something a denoiser must not blur over its neighbours: an emitter seen
-    // directly, a mirror-like metal or a transmissive surface (common/render/path_tracer.cpp,
-    // first_hit_flags). Its light is not the base colour times a smooth irradiance.
+    // directly, rough glass, or a mirror-like metal or clear glass that shows no surface beyond
+    // it (common/render/first_hit.cpp). Its light is not the base colour times a smooth
+    // irradiance.
     static constexpr uint32_t kSharp = 1u;
     // Seen through mirrors or clear glass (primary surface replacement, PathTracer::first_hit):
     // the surface beyond them. Its distance is the path's length, so the point lies along the

@@ -43,7 +43,7 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
             g.normal[i] = h.normal;
             g.albedo[i] = h.albedo;
             g.sharp[i] = h.sharp() ? 1 : 0;
-            g.glossy[i] = (h.flags & FirstHit::kGlossy) ? 1 : 0;
+            g.glossy[i] = h.glossy() ? 1 : 0;
             g.primitive[i] = h.primitive;
             g.barycentric[i] = Vec2(h.u, h.v);
         }
