@@ -47,21 +47,18 @@ FirstHit PathTracer::first_hit(const Ray& ray, const KnownHit& first,
         const Vec3 n = glm::dot(sp.ns, r.d) > 0.0f ? -sp.ns : sp.ns;
         const Pass pass = pass_of(mp, max_component(shading_.emitted(sp, -r.d)) > 0.0f);
         travelled += hit.t;
+        const uint32_t glossy = mp.alpha < kGlossyMaxAlpha ? FirstHit::kGlossy : 0u;
         if (bounce == 0)
             primary = {hit.t,
                        hit.instance,
                        n,
                        mp.base_color,
-                       pass == Pass::diffuse ? 0u : FirstHit::kSharp,
+                       pass == Pass::diffuse ? glossy : FirstHit::kSharp,
                        hit.prim,
                        hit.u,
                        hit.v};
-        const uint32_t glossy = mp.alpha < kGlossyMaxAlpha ? FirstHit::kGlossy : 0u;
         if (pass == Pass::diffuse) {
-            if (bounce == 0) {
-                primary.flags = glossy;
-                return primary;
-            }
+            if (bounce == 0) return primary;
             // Where the centre ray's path would put it seen straight on: along the camera
             // ray at the distance travelled, its normal reflected by the mirrors passed.
             Vec3 seen = through_mirrors(n, mirrors, mirrored);
