@@ -7,10 +7,9 @@
 namespace pathfarm::coord {
 
 WorkloadScaler::WorkloadScaler(const ScalerOptions& options) : o_(options) {
-    // Steps of at most about 1.5x in work: a coarser ladder leaves the budget unused. Below
-    // 1 spp, where a real-time farm usually sits, resolution steps of 5 % (about 1.1x in
-    // work): with 10 % steps the demo's frames settled at 76 ms of a 90 ms budget, the next
-    // step up predicted at 94.
+    // Steps of at most about 1.5x in work: a coarser ladder leaves the budget unused (with
+    // resolution steps of 10 % the demo's frames settled at 76 ms of a 90 ms budget, the next
+    // step up predicted at 94).
     // From 4 spp down, steps of one spp are split by extra samples into steps of about 1.03x:
     // with whole samples alone a farm that could not afford 2 spp sat at 1 with its tracers
     // idle 30 % of each frame (the demo at 320x180); with steps of 1.1x, at 77 % (the frame
@@ -18,17 +17,20 @@ WorkloadScaler::WorkloadScaler(const ScalerOptions& options) : o_(options) {
     for (int spp = std::max(1, o_.max_spp); spp >= 1; spp = spp > 4 ? (spp * 2) / 3 : spp - 1) {
         ladder_.push_back({spp, 0.0f, 1.0f, 1.0f});
         if (spp == 1 || spp > 4) continue;
-        const int steps = int(std::ceil(std::log(double(spp) / (spp - 1)) / std::log(1.03)));
+        const int steps = int(std::ceil(std::log(double(spp) / (spp - 1)) / std::log(kStep)));
         for (int k = steps - 1; k >= 1; --k)
             ladder_.push_back({spp - 1, float(k) / float(steps), 1.0f, 1.0f});
     }
     for (float rr : {0.75f, 0.5f, 0.35f})
         if (rr >= o_.min_rr_scale) ladder_.push_back({1, 0.0f, rr, 1.0f});
+    // Resolution steps of about 1.03x in work too (1.5 % per axis), down to the floor: with
+    // steps of 5 % (1.1x) the demo, which sits below 1 spp, settled anywhere down to a step
+    // below the rise margin, its tracers rendering 77 % of the time.
     const float rr = ladder_.back().rr_scale;
-    for (int percent = 95; percent >= 30; percent -= 5) {
-        const float res = float(percent) / 100.0f;
-        if (res >= o_.min_resolution) ladder_.push_back({1, 0.0f, rr, res});
-    }
+    const double per_axis = 1.0 / std::sqrt(kStep);
+    for (double res = per_axis; res > double(o_.min_resolution) * 1.001; res *= per_axis)
+        ladder_.push_back({1, 0.0f, rr, float(res)});
+    if (o_.min_resolution < 1.0f) ladder_.push_back({1, 0.0f, rr, o_.min_resolution});
 }
 
 double WorkloadScaler::work(const QualityLevel& l) {

@@ -53,6 +53,7 @@ public:
 
 private:
     static constexpr double kMaxRise = 1.1;  // work(next level) / work(level) at most
+    static constexpr double kStep = 1.03;    // the ladder's steps in work, where they are fine
     ScalerOptions o_;
     std::vector<QualityLevel> ladder_;  // best first
     std::size_t index_ = 0;
