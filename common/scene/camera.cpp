@@ -17,15 +17,6 @@ CameraRays::CameraRays(const Camera& camera, int width, int height)
       width_(float(width)),
       height_(float(height)) {}
 
-Ray CameraRays::operator()(float px, float py) const {
-    const float sx = (2.0f * px / width_ - 1.0f) * tan_half_ * aspect_;
-    const float sy = (1.0f - 2.0f * py / height_) * tan_half_;
-    Ray ray;
-    ray.o = eye_;
-    ray.d = glm::normalize(transform_vector(camera_to_world_, Vec3(sx, sy, -1.0f)));
-    return ray;
-}
-
 Camera frame_bounds(const Bounds3f& bounds, float aspect) {
     Camera camera;
     camera.name = "default-framing";

@@ -23,7 +23,15 @@ Ray generate_camera_ray(const Camera& camera, int width, int height, float px, f
 class CameraRays {
 public:
     CameraRays(const Camera& camera, int width, int height);
-    Ray operator()(float px, float py) const;
+    // Inline: the coordinator makes one per display pixel and frame (its G-buffer).
+    Ray operator()(float px, float py) const {
+        const float sx = (2.0f * px / width_ - 1.0f) * tan_half_ * aspect_;
+        const float sy = (1.0f - 2.0f * py / height_) * tan_half_;
+        Ray ray;
+        ray.o = eye_;
+        ray.d = glm::normalize(Vec3(camera_to_world_ * Vec4(sx, sy, -1.0f, 0.0f)));  // a vector
+        return ray;
+    }
 
 private:
     Mat4 camera_to_world_;
