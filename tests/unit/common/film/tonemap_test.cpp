@@ -81,5 +81,40 @@ TEST(Tonemap, ImagesMapChannelByChannelWithExposure) {
     EXPECT_EQ(tonemap_to_srgb8(img)[5], 0);
 }
 
+// The image path works on runs of floats (the fit vectorised, then the table): over several
+// runs, with every kind of float at random places among them, it still gives each channel's
+// own code.
+TEST(Tonemap, RunsOfAnyFloatsMapAsEachChannelAlone) {
+    std::mt19937 rng(11);
+    const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                              -std::numeric_limits<float>::quiet_NaN(),
+                              std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity(),
+                              std::numeric_limits<float>::max(),
+                              -std::numeric_limits<float>::max(),
+                              std::numeric_limits<float>::denorm_min(),
+                              std::numeric_limits<float>::min(),
+                              -0.0f,
+                              0.0f,
+                              1e6f,
+                              1.0000001e6f,
+                              1e19f,
+                              1.0f};
+    std::uniform_real_distribution<float> log10(-8.0f, 8.0f), u(0.0f, 1.0f);
+    std::uniform_int_distribution<int> special(0, int(std::size(specials)) - 1);
+    FloatImage img(641, 3);  // 5769 floats: runs and a partial one
+    for (float& v : img.rgb)
+        v = u(rng) < 0.1f ? specials[special(rng)]
+                          : (u(rng) < 0.2f ? -1.0f : 1.0f) * std::pow(10.0f, log10(rng));
+    for (const float exposure : {1.0f, 0.01f, 7.5f, 1e20f}) {
+        const std::vector<uint8_t> out = tonemap_to_srgb8(img, exposure);
+        ASSERT_EQ(out.size(), img.rgb.size());
+        int wrong = 0;
+        for (std::size_t i = 0; i < out.size(); ++i)
+            wrong += out[i] != tonemap_channel(img.rgb[i], exposure);
+        EXPECT_EQ(wrong, 0) << "exposure " << exposure;
+    }
+}
+
 }  // namespace
 }  // namespace pathfarm
