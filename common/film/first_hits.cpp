@@ -1,10 +1,8 @@
-// First-hit planes: half floats (half.h packs them as glm's packHalf1x16 does, glm unpacks
-// them), then one zstd frame (float_codec).
+// First-hit planes: half floats (half.h packs them as glm::packHalf1x16 does and unpacks them
+// as glm::unpackHalf1x16 does), then one zstd frame (float_codec).
 #include "common/film/first_hits.h"
 
 #include <cstring>
-
-#include <glm/gtc/packing.hpp>
 
 #include "common/film/float_codec.h"
 #include "common/math/half.h"
@@ -66,18 +64,18 @@ Result<std::vector<FirstHit>> decode_first_hits(const std::string& data, std::si
         h.instance = get<uint32_t>(raw, at);
     for (int c = 0; c < 3; ++c)
         for (FirstHit& h : hits)
-            h.normal[c] = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+            h.normal[c] = half_to_float(get<uint16_t>(raw, at));
     for (int c = 0; c < 3; ++c)
         for (FirstHit& h : hits)
-            h.albedo[c] = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+            h.albedo[c] = half_to_float(get<uint16_t>(raw, at));
     for (FirstHit& h : hits)
         h.flags = get<uint8_t>(raw, at);
     for (FirstHit& h : hits)
         h.primitive = get<uint32_t>(raw, at);
     for (FirstHit& h : hits)
-        h.u = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+        h.u = half_to_float(get<uint16_t>(raw, at));
     for (FirstHit& h : hits)
-        h.v = glm::unpackHalf1x16(get<uint16_t>(raw, at));
+        h.v = half_to_float(get<uint16_t>(raw, at));
     return hits;
 }
 

@@ -40,5 +40,19 @@ TEST(HalfBits, AgreeWithGlmOnEveryExponentAndRoundingPattern) {
     EXPECT_EQ(mismatches, 0) << "of " << checked;
 }
 
+// Every half (zeros, denormals, normals, infinities, NaNs, both signs) unpacks to glm's
+// float, bit for bit.
+TEST(HalfFloat, AgreesWithGlmOnEveryHalf) {
+    int wrong = 0;
+    for (uint32_t h = 0; h <= 0xffffu; ++h) {
+        const float ours = half_to_float(uint16_t(h)), glms = glm::unpackHalf1x16(uint16_t(h));
+        uint32_t a, b;
+        std::memcpy(&a, &ours, sizeof a);
+        std::memcpy(&b, &glms, sizeof b);
+        wrong += a != b;
+    }
+    EXPECT_EQ(wrong, 0);
+}
+
 }  // namespace
 }  // namespace pathfarm::half_test
