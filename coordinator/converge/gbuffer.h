@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/film/first_hits.h"
@@ -60,8 +61,38 @@ public:
         return camera_space(transform_vector(world_to_camera_, d), px, py);
     }
     Vec3 eye() const { return eye_; }
+    // point() for n points given as coordinate planes, and each one's distance from the eye
+    // (glm::length(p - eye())): the same floats, operation for operation (glm's matrix product
+    // and dot written out), in a loop that vectorises. `on[k]` is what point() returns; px and
+    // py are meaningless where it is 0. Under a moving camera the temporal accumulator projects
+    // a row at a time: pixel by pixel, the division and square root were 40 % of its blend.
+    void points(const float* __restrict xs, const float* __restrict ys, const float* __restrict zs,
+                int n, float* __restrict px, float* __restrict py, int32_t* __restrict on,
+                float* __restrict distance) const {
+        // In locals: the stores cannot change them, so the loop needs no alias checks.
+        const Mat4 m = world_to_camera_;
+        const Vec3 eye = eye_;
+        const float sx_scale = inv_scale_x_, sy_scale = inv_scale_y_, hw = half_width_,
+                    hh = half_height_;
+        for (int k = 0; k < n; ++k) {
+            const float x = xs[k], y = ys[k], z = zs[k];
+            const float qx = (m[0][0] * x + m[1][0] * y) + (m[2][0] * z + m[3][0]);
+            const float qy = (m[0][1] * x + m[1][1] * y) + (m[2][1] * z + m[3][1]);
+            const float qz = (m[0][2] * x + m[1][2] * y) + (m[2][2] * z + m[3][2]);
+            const float inv_depth = -1.0f / qz;
+            const float sx = (qx * inv_depth * sx_scale + 1.0f) * hw;
+            const float sy = (1.0f - qy * inv_depth * sy_scale) * hh;
+            px[k] = sx;
+            py[k] = sy;
+            on[k] = qz < 0.0f && std::abs(sx) <= kLargest && std::abs(sy) <= kLargest ? 1 : 0;
+            const float dx = x - eye.x, dy = y - eye.y, dz = z - eye.z;
+            distance[k] = std::sqrt((dx * dx + dy * dy) + dz * dz);
+        }
+    }
 
 private:
+    static constexpr float kLargest = std::numeric_limits<float>::max();  // isfinite as a compare
+
     bool camera_space(const Vec3& q, float& px, float& py) const {
         if (!(q.z < 0.0f)) return false;      // the camera looks down -Z
         const float inv_depth = -1.0f / q.z;  // one division, not four

@@ -93,6 +93,7 @@ public:
 
 private:
     void start_over(const FloatImage& image, FrameView view);  // this frame's samples alone
+    void size_outputs(int w, int h);                           // the blend's outputs at w x h
     void keep(FrameView view);  // the blend's outputs become the history
     void remember_surfaces(const FrameView& view);
 
