@@ -1,9 +1,9 @@
 // CameraProjector::points (a row of points projected at once, in a loop that vectorises) gives
 // what point() and glm::length(p - eye()) give one at a time, bit for bit: the temporal
 // accumulator takes either path and its history must not depend on which.
+#include <bit>
 #include <cmath>
-#include <cstring>
-#include <limits>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -15,11 +15,7 @@
 namespace pathfarm::coord {
 namespace {
 
-uint32_t bits(float f) {
-    uint32_t b;
-    std::memcpy(&b, &f, sizeof b);
-    return b;
-}
+uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
 
 // Random cameras (position, orientation, field of view, image size) and points around them:
 // in front, behind, in the eye's plane, far away, at the eye itself.
