@@ -23,5 +23,8 @@ inline Rgb sample_bilinear(const FloatImage& image, float sx, float sy) {
 }
 
 FloatImage resize_bilinear(const FloatImage& image, int width, int height);
+// Rows [y0, y1) of that resize into `out`, already of the new size (a caller's threads each
+// take some rows: coordinator/frame/parallel_image.h).
+void resize_bilinear_rows(const FloatImage& image, FloatImage& out, int y0, int y1);
 
 }  // namespace pathfarm

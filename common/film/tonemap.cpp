@@ -94,13 +94,15 @@ uint8_t tonemap_channel(float linear, float exposure) {
 
 // By runs of floats: the fit vectorised into a buffer, then the table (the coordinator
 // tonemaps every frame for its clients: one channel at a time it was 1.5 ms at 320x180).
-std::vector<uint8_t> tonemap_to_srgb8(const FloatImage& image, float exposure) {
+void tonemap_rows_to_srgb8(const FloatImage& image, float exposure, int y0, int y1, uint8_t* out) {
     const CodeTable& table = code_table();
-    std::vector<uint8_t> out(image.rgb.size());
+    const std::size_t row = std::size_t(std::max(image.width, 0)) * 3;
+    const std::size_t begin = row * std::size_t(std::clamp(y0, 0, image.height));
+    const std::size_t end = row * std::size_t(std::clamp(y1, 0, image.height));
     constexpr std::size_t kRun = 512;
     float display[kRun];
-    for (std::size_t i = 0; i < image.rgb.size(); i += kRun) {
-        const std::size_t n = std::min(kRun, image.rgb.size() - i);
+    for (std::size_t i = begin; i < end; i += kRun) {
+        const std::size_t n = std::min(kRun, end - i);
         aces_fit_run(image.rgb.data() + i, display, n, exposure);
         // The fit's values lie in [-0, 1] (no NaN): code_of without its branches (-0 as +0).
         for (std::size_t j = 0; j < n; ++j) {
@@ -109,6 +111,11 @@ std::vector<uint8_t> tonemap_to_srgb8(const FloatImage& image, float exposure) {
             out[i + j] = uint8_t(table.base[b] + (d >= table.step[b] ? 1 : 0));
         }
     }
+}
+
+std::vector<uint8_t> tonemap_to_srgb8(const FloatImage& image, float exposure) {
+    std::vector<uint8_t> out(image.rgb.size());
+    tonemap_rows_to_srgb8(image, exposure, 0, image.height, out.data());
     return out;
 }
 

@@ -11,6 +11,9 @@ namespace pathfarm {
 
 // 8-bit sRGB RGB bytes, row 0 at the top.
 std::vector<uint8_t> tonemap_to_srgb8(const FloatImage& image, float exposure = 1.0f);
+// Rows [y0, y1) of that into `out`, the whole image's bytes (a caller's threads each take some
+// rows: coordinator/frame/parallel_image.h).
+void tonemap_rows_to_srgb8(const FloatImage& image, float exposure, int y0, int y1, uint8_t* out);
 
 // One channel of the above: a linear value (non-finite counts as 0) to its 8-bit code.
 uint8_t tonemap_channel(float linear, float exposure = 1.0f);

@@ -4,7 +4,7 @@
 #include "common/film/float_codec.h"
 #include "common/film/image_io.h"
 #include "common/film/jpeg_codec.h"
-#include "common/film/tonemap.h"
+#include "coordinator/frame/parallel_image.h"
 
 namespace pathfarm::coord {
 
@@ -14,8 +14,9 @@ Result<std::string> encode_frame(const FloatImage& image, FrameCodec codec, int 
     if (codec == FrameCodec::float_zstd)
         return compress_floats(image.rgb.data(), image.rgb.size(), 3);
     if (codec == FrameCodec::jpeg)
-        return encode_jpeg(image.width, image.height, tonemap_to_srgb8(image), jpeg_quality);
-    auto png = encode_png(image.width, image.height, tonemap_to_srgb8(image));
+        return encode_jpeg(image.width, image.height, tonemap_to_srgb8_parallel(image),
+                           jpeg_quality);
+    auto png = encode_png(image.width, image.height, tonemap_to_srgb8_parallel(image));
     if (!png) return png.error();
     return std::string(png->begin(), png->end());
 }

@@ -5,8 +5,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include "common/film/tonemap.h"
 #include "common/wire/messages.h"
+#include "coordinator/frame/parallel_image.h"
 #include "coordinator/http/web_port.h"
 #include "coordinator/http/web_protocol.h"
 
@@ -135,7 +135,7 @@ std::optional<H264Picture> ClientHub::encode_h264(const FloatImage& image, bool 
         h264_ = std::move(*opened);
         key = true;
     }
-    auto picture = h264_->encode(tonemap_to_srgb8(image), key);
+    auto picture = h264_->encode(tonemap_to_srgb8_parallel(image), key);
     if (!picture) {
         spdlog::error("{}", picture.error().message);
         return std::nullopt;

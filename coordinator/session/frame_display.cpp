@@ -4,7 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/film/image_io.h"
-#include "common/film/resample.h"
+#include "coordinator/frame/parallel_image.h"
 #include "coordinator/pacing/extra_samples.h"
 
 namespace pathfarm::coord {
@@ -88,7 +88,7 @@ void FrameDisplay::show(DisplayJob& job) {
                        : o_.denoise ? denoiser_.output()
                                     : accumulator_.output();
     if (image.width != o_.width || image.height != o_.height)
-        image = resize_bilinear(image, o_.width, o_.height);
+        image = resize_bilinear_parallel(image, o_.width, o_.height);
     ConvergeStats converged{0.0, 1.0, 0.0};
     double denoise_ms = 0.0;
     if ((o_.converge || o_.denoise) && job.rendered) {
