@@ -69,6 +69,7 @@ public:
     }
     float min_history_frames() const { return accumulator_.min_history_frames(); }
     const std::vector<float>& history_frames() const { return accumulator_.history_frames(); }
+    GBuffer take_spare_gbuffer() { return accumulator_.take_spare_gbuffer(); }  // (accumulator)
     // The last denoised image.
     const FloatImage& output() const { return output_is_taa_ ? taa_.history() : output_; }
 

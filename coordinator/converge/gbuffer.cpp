@@ -24,15 +24,15 @@ void GBuffer::resize(int w, int h) {
 }
 
 GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_width, int hits_height,
-                                const Camera& camera, int width, int height) {
-    GBuffer g;
+                                const Camera& camera, int width, int height, GBuffer reuse) {
+    GBuffer g = std::move(reuse);
     if (hits.size() != std::size_t(hits_width) * std::size_t(hits_height) || hits.empty()) {
         g.resize(width, height);
         return g;  // none: every pixel a miss, no history survives
     }
     // On the display's way to the screen (1.8 ms a frame in the demo, filled as misses first and
-    // then one row after another): the planes sized (a memset), then every pixel written once,
-    // rows in parallel.
+    // then one row after another): the planes sized (a memset, none when reused at the same
+    // size), then every pixel written once, rows in parallel.
     const std::size_t n = std::size_t(width) * std::size_t(height);
     g.width = width;
     g.height = height;

@@ -37,8 +37,10 @@ struct GBuffer {
 // (workload scaling may render smaller than the display): each pixel takes the nearest render
 // pixel's hit, placed along its own centre ray at that hit's distance. The first hits' jitter
 // moves a surface point by at most a pixel's footprint.
+// `reuse`: a G-buffer no longer needed (TemporalAccumulator::take_spare_gbuffer), written
+// over: of the same size, its planes need no allocation or clearing.
 GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_width, int hits_height,
-                                const Camera& camera, int width, int height);
+                                const Camera& camera, int width, int height, GBuffer reuse = {});
 
 // The same from a backend's own first hits at the display size, whose instances are SceneModel
 // indices (pathfarm-render, benchmarks) rather than the scene graph's ids: index i becomes id

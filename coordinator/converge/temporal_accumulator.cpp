@@ -165,7 +165,7 @@ void TemporalAccumulator::start_over(const FloatImage& image, FrameView view) {
         moments_[i] = Vec2(l, l * l);
     }
     remember_surfaces(view);
-    previous_ = std::move(view);
+    replace_previous(std::move(view));
 }
 
 void TemporalAccumulator::remember_surfaces(const FrameView& view) {
@@ -182,12 +182,17 @@ void TemporalAccumulator::size_outputs(int w, int h) {
     next_frames_.resize(n), next_moments_.resize(n), sources_.resize(n);
 }
 
+void TemporalAccumulator::replace_previous(FrameView view) {
+    if (previous_) spare_gbuffer_ = std::move(previous_->gbuffer);
+    previous_ = std::move(view);
+}
+
 void TemporalAccumulator::keep(FrameView view) {
     std::swap(history_, next_history_);
     std::swap(frames_, next_frames_);
     std::swap(moments_, next_moments_);
     remember_surfaces(view);
-    previous_ = std::move(view);
+    replace_previous(std::move(view));
 }
 
 namespace {

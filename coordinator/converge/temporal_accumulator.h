@@ -90,11 +90,15 @@ public:
     // The last blended frame's G-buffer (kept for the next frame's reprojection); null before
     // the first frame.
     const GBuffer* gbuffer() const { return previous_ ? &previous_->gbuffer : nullptr; }
+    // The G-buffer of the frame before the last, no longer needed, for the next frame's to be
+    // written into (gbuffer_from_first_hits: its planes are already sized); empty if none.
+    GBuffer take_spare_gbuffer() { return std::exchange(spare_gbuffer_, GBuffer{}); }
 
 private:
     void start_over(const FloatImage& image, FrameView view);  // this frame's samples alone
     void size_outputs(int w, int h);                           // the blend's outputs at w x h
-    void keep(FrameView view);  // the blend's outputs become the history
+    void keep(FrameView view);              // the blend's outputs become the history
+    void replace_previous(FrameView view);  // keeping the old one's G-buffer as the spare
     void remember_surfaces(const FrameView& view);
 
     ConvergeOptions o_;
@@ -103,6 +107,7 @@ private:
     std::vector<Vec2> moments_;
     std::vector<Vec2> sources_;
     std::optional<FrameView> previous_;
+    GBuffer spare_gbuffer_;  // previous_'s when a newer view replaced it
     // Each deformed instance's vertices as last seen: its vertices in the previous frame, since
     // every change of them comes with the frame's view.
     SurfaceMap last_surfaces_;

@@ -92,8 +92,11 @@ void FrameDisplay::show(DisplayJob& job) {
     ConvergeStats converged{0.0, 1.0, 0.0};
     double denoise_ms = 0.0;
     if ((o_.converge || o_.denoise) && job.rendered) {
-        job.view.gbuffer = gbuffer_from_first_hits(job.outcome.first_hits, w.width, w.height,
-                                                   job.view.camera, o_.width, o_.height);
+        GBuffer spare =
+            o_.denoise ? denoiser_.take_spare_gbuffer() : accumulator_.take_spare_gbuffer();
+        job.view.gbuffer =
+            gbuffer_from_first_hits(job.outcome.first_hits, w.width, w.height, job.view.camera,
+                                    o_.width, o_.height, std::move(spare));
         if (w.extra_map && w.width == o_.width && w.height == o_.height)
             job.view.sample_weights = sample_weights(*w.extra_map, w.spp);
         if (o_.denoise) {
