@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "common/film/film.h"
 #include "coordinator/converge/gbuffer.h"
