@@ -8,18 +8,29 @@
 
 namespace pathfarm {
 
-// `image` at pixel coordinates (sx, sy), a pixel's centre at x + 0.5, bilinear, the border
-// pixels extended. Inline: the per-pixel loops that call it (resizing, the denoiser's temporal
-// anti-aliasing) are in other libraries.
+// Where a coordinate samples along one axis of `size` pixels (a pixel's centre at x + 0.5, the
+// border pixels extended): its two pixels and the weight of the second.
+struct BilinearTap {
+    int a, b;
+    float t;
+};
+inline BilinearTap bilinear_tap(float s, int size) {
+    const float f = std::clamp(s - 0.5f, 0.0f, float(size - 1));
+    const int a = int(f);
+    return {a, std::min(a + 1, size - 1), f - float(a)};
+}
+
+// The image between the four pixels of a column tap `c` and a row tap `r`.
+inline Rgb blend_taps(const FloatImage& image, const BilinearTap& c, const BilinearTap& r) {
+    const Rgb top = image.pixel(c.a, r.a) * (1.0f - c.t) + image.pixel(c.b, r.a) * c.t;
+    const Rgb bottom = image.pixel(c.a, r.b) * (1.0f - c.t) + image.pixel(c.b, r.b) * c.t;
+    return top * (1.0f - r.t) + bottom * r.t;
+}
+
+// `image` at pixel coordinates (sx, sy), bilinear. Inline: the per-pixel loops that call it
+// (the denoiser's temporal anti-aliasing) are in other libraries.
 inline Rgb sample_bilinear(const FloatImage& image, float sx, float sy) {
-    const float fx = std::clamp(sx - 0.5f, 0.0f, float(image.width - 1));
-    const float fy = std::clamp(sy - 0.5f, 0.0f, float(image.height - 1));
-    const int x0 = int(fx), x1 = std::min(x0 + 1, image.width - 1);
-    const int y0 = int(fy), y1 = std::min(y0 + 1, image.height - 1);
-    const float tx = fx - float(x0), ty = fy - float(y0);
-    const Rgb top = image.pixel(x0, y0) * (1.0f - tx) + image.pixel(x1, y0) * tx;
-    const Rgb bottom = image.pixel(x0, y1) * (1.0f - tx) + image.pixel(x1, y1) * tx;
-    return top * (1.0f - ty) + bottom * ty;
+    return blend_taps(image, bilinear_tap(sx, image.width), bilinear_tap(sy, image.height));
 }
 
 FloatImage resize_bilinear(const FloatImage& image, int width, int height);

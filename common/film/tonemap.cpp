@@ -61,11 +61,16 @@ const CodeTable& code_table() {
     return table;
 }
 
+// The table's code for a display value in [-0, 1] (-0 as +0), without branches.
+uint8_t table_code(const CodeTable& t, float display) {
+    const uint32_t b = (std::bit_cast<uint32_t>(display) & 0x7fffffffu) >> kBucketShift;
+    return uint8_t(t.base[b] + (display >= t.step[b] ? 1 : 0));
+}
+
 uint8_t code_of(const CodeTable& t, float display) {
     if (!(display > 0.0f)) return 0;  // NaN too
     if (display >= 1.0f) return 255;
-    const uint32_t b = std::bit_cast<uint32_t>(display) >> kBucketShift;
-    return uint8_t(t.base[b] + (display >= t.step[b] ? 1 : 0));
+    return table_code(t, display);
 }
 
 // aces_fit(exposed) for a run of floats, written with min and max (what std::clamp is for
@@ -104,12 +109,8 @@ void tonemap_rows_to_srgb8(const FloatImage& image, float exposure, int y0, int 
     for (std::size_t i = begin; i < end; i += kRun) {
         const std::size_t n = std::min(kRun, end - i);
         aces_fit_run(image.rgb.data() + i, display, n, exposure);
-        // The fit's values lie in [-0, 1] (no NaN): code_of without its branches (-0 as +0).
-        for (std::size_t j = 0; j < n; ++j) {
-            const float d = display[j];
-            const uint32_t b = (std::bit_cast<uint32_t>(d) & 0x7fffffffu) >> kBucketShift;
-            out[i + j] = uint8_t(table.base[b] + (d >= table.step[b] ? 1 : 0));
-        }
+        for (std::size_t j = 0; j < n; ++j)  // the fit's values lie in [-0, 1], no NaN
+            out[i + j] = table_code(table, display[j]);
     }
 }
 

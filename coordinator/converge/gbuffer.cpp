@@ -8,19 +8,19 @@
 
 namespace pathfarm::coord {
 
-void GBuffer::resize(int w, int h) {
+void GBuffer::size_planes(int w, int h) {
     width = w;
     height = h;
     const std::size_t n = std::size_t(w) * std::size_t(h);
-    distance.assign(n, kInfinity);
-    instance.assign(n, kNoInstance);
-    position.assign(n, Vec3(0.0f));
-    normal.assign(n, Vec3(0.0f));
-    albedo.assign(n, Rgb(0.0f));
-    sharp.assign(n, 0);
-    glossy.assign(n, 0);
-    primitive.assign(n, FirstHit::kNone);
-    barycentric.assign(n, Vec2(0.0f));
+    distance.resize(n), instance.resize(n), position.resize(n), normal.resize(n);
+    albedo.resize(n), sharp.resize(n), glossy.resize(n), primitive.resize(n);
+    barycentric.resize(n);
+}
+
+void GBuffer::resize(int w, int h) {
+    size_planes(w, h);
+    for (std::size_t i = 0; i < distance.size(); ++i)
+        set_miss(i);
 }
 
 GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_width, int hits_height,
@@ -33,12 +33,7 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
     // On the display's way to the screen (1.8 ms a frame in the demo, filled as misses first and
     // then one row after another): the planes sized (a memset, none when reused at the same
     // size), then every pixel written once, rows in parallel.
-    const std::size_t n = std::size_t(width) * std::size_t(height);
-    g.width = width;
-    g.height = height;
-    g.distance.resize(n), g.instance.resize(n), g.position.resize(n), g.normal.resize(n);
-    g.albedo.resize(n), g.sharp.resize(n), g.glossy.resize(n), g.primitive.resize(n);
-    g.barycentric.resize(n);
+    g.size_planes(width, height);
     const CameraRays camera_ray(camera, width, height);
     parallel_rows(height, [&](int y) {
         const int hy = std::min(hits_height - 1, int((y + 0.5f) * hits_height / height));
@@ -46,13 +41,8 @@ GBuffer gbuffer_from_first_hits(const std::vector<FirstHit>& hits, int hits_widt
             const int hx = std::min(hits_width - 1, int((x + 0.5f) * hits_width / width));
             const FirstHit& h = hits[std::size_t(hy) * hits_width + hx];
             const std::size_t i = std::size_t(y) * width + x;
-            if (!h.hit() || h.instance == GBuffer::kNoInstance) {  // a miss, as resize() makes it
-                g.distance[i] = kInfinity;
-                g.instance[i] = GBuffer::kNoInstance;
-                g.position[i] = g.normal[i] = g.albedo[i] = Vec3(0.0f);
-                g.sharp[i] = g.glossy[i] = 0;
-                g.primitive[i] = FirstHit::kNone;
-                g.barycentric[i] = Vec2(0.0f);
+            if (!h.hit() || h.instance == GBuffer::kNoInstance) {
+                g.set_miss(i);
                 continue;
             }
             const Ray ray = camera_ray(x + 0.5f, y + 0.5f);

@@ -30,7 +30,17 @@ struct GBuffer {
 
     static constexpr uint32_t kNoInstance = 0;  // instance ids start at 1
     bool hit(std::size_t i) const { return instance[i] != kNoInstance; }
-    void resize(int w, int h);  // every pixel a miss
+    void resize(int w, int h);       // every pixel a miss
+    void size_planes(int w, int h);  // w x h, pixels left as they were or zero
+    // Pixel i a miss: what the sky leaves (no instance, infinite distance, zeros).
+    void set_miss(std::size_t i) {
+        distance[i] = kInfinity;
+        instance[i] = kNoInstance;
+        position[i] = normal[i] = albedo[i] = Vec3(0.0f);
+        sharp[i] = glossy[i] = 0;
+        primitive[i] = FirstHit::kNone;
+        barycentric[i] = Vec2(0.0f);
+    }
 };
 
 // The G-buffer at width x height from the first hits of a hits_width x hits_height render
